@@ -1,0 +1,42 @@
+#pragma once
+
+/// @file
+/// Forward kinematics and configuration-space maps (quaternion joints).
+
+#include <Eigen/Core>
+
+#include "idto/multibody/data.hpp"
+#include "idto/multibody/model.hpp"
+
+namespace idto {
+
+/// Body poses for configuration q (nq). Velocities in data are left unchanged.
+void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                       Data* data);
+
+/// Body poses and spatial velocities for q (nq) and v (nv).
+void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                       const Eigen::Ref<const Eigen::VectorXd>& v, Data* data);
+
+/// N(q) (nq x nv): qdot = N(q) v. Identity except for floating joints, whose quaternion block is
+/// 0.5 * [-w^T; w*I - [w]x]-style (the map from the angular velocity in J to the quaternion rate).
+void CalcNMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                 Eigen::MatrixXd* N);
+
+/// N+(q) (nv x nq), the left pseudo-inverse of N(q): N+(q) N(q) = I for unit quaternions.
+void CalcNplusMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                     Eigen::MatrixXd* Nplus);
+
+/// q_next = q "+" v * dt: exact exponential integration on quaternions (result normalized).
+/// q: nq, v: nv, q_next: nq (may alias q).
+void Integrate(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+               const Eigen::Ref<const Eigen::VectorXd>& v, double dt, Eigen::VectorXd* q_next);
+
+/// v (nv) such that Integrate(q0, v, 1) = q1 (the shortest rotation for quaternions).
+void Difference(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q1,
+                const Eigen::Ref<const Eigen::VectorXd>& q0, Eigen::VectorXd* v);
+
+/// Normalizes every quaternion in q (nq) in place.
+void NormalizeQuaternions(const Model& model, Eigen::VectorXd* q);
+
+}  // namespace idto

@@ -1,0 +1,112 @@
+#pragma once
+
+/// @file
+/// Models built in code for tests: random trees with every joint type, rotated joint frames,
+/// offset centres of mass, full inertias and welded bodies.
+
+#include <string>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "idto/multibody/model.hpp"
+#include "idto/multibody/model_builder.hpp"
+#include "support/random.hpp"
+
+namespace idto::test {
+
+/// A random physically valid inertia (principal moments satisfying the triangle inequality,
+/// rotated by a random rotation) with a random centre of mass.
+inline BodyInertia RandomInertia(Random* rng) {
+  BodyInertia I;
+  I.mass = rng->Uniform(0.5, 3.0);
+  I.p_BBcm = rng->Vector(3, -0.2, 0.2);
+  const Eigen::Vector3d moments(rng->Uniform(0.04, 0.075), rng->Uniform(0.04, 0.075),
+                                rng->Uniform(0.04, 0.075));
+  const Eigen::Matrix3d R = rng->Quaternion().toRotationMatrix();
+  I.I_BBcm_B = R * moments.asDiagonal() * R.transpose();
+  return I;
+}
+
+inline Eigen::Isometry3d RandomPose(Random* rng, double max_offset = 0.4) {
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = rng->Quaternion().toRotationMatrix();
+  X.translation() = rng->Vector(3, -max_offset, max_offset);
+  return X;
+}
+
+/// Options for RandomTreeModel.
+struct RandomTreeOptions {
+  int num_bodies{8};
+  BaseType base{BaseType::kFloating};
+  bool include_prismatic{true};
+  bool include_welds{true};
+  bool include_planar{true};      ///< a planar joint deeper in the tree
+  bool include_floating{true};    ///< a floating joint deeper in the tree (not at the root)
+  bool with_damping{true};
+  Eigen::Vector3d gravity{0.0, 0.0, -9.81};
+};
+
+/// A random tree: the root on the requested base, then bodies attached to random earlier
+/// bodies by revolute, continuous, prismatic, fixed, planar and floating joints.
+inline Model RandomTreeModel(std::uint32_t seed, const RandomTreeOptions& options = {}) {
+  Random rng(seed);
+  ModelBuilder builder("random_tree_" + std::to_string(seed));
+  builder.SetGravity(options.gravity);
+  JointSpec root;
+  root.name = "root_joint";
+  root.X_PJ = RandomPose(&rng, 0.5);
+  switch (options.base) {
+    case BaseType::kFixed: root.type = JointType::kRevolute; break;
+    case BaseType::kFloating: root.type = JointType::kFloating; break;
+    case BaseType::kPlanar: root.type = JointType::kPlanar; break;
+  }
+  root.axis = rng.Vector(3).normalized();
+  root.damping = options.with_damping ? 0.3 : 0.0;
+  builder.AddBody("body1", RandomInertia(&rng), kWorldBody, root);
+  bool placed_planar = !options.include_planar, placed_floating = !options.include_floating;
+  for (int i = 2; i <= options.num_bodies; ++i) {
+    JointSpec j;
+    j.name = "joint" + std::to_string(i);
+    j.X_PJ = RandomPose(&rng);
+    j.axis = rng.Vector(3) * 2.0;  // deliberately not unit: the builder normalizes
+    j.damping = options.with_damping ? rng.Uniform(0.0, 0.5) : 0.0;
+    const int kind = i % 5;
+    if (kind == 0 && options.include_prismatic) {
+      j.type = JointType::kPrismatic;
+    } else if (kind == 1 && options.include_welds) {
+      j.type = JointType::kFixed;
+    } else if (kind == 2) {
+      j.type = JointType::kContinuous;
+    } else {
+      j.type = JointType::kRevolute;
+    }
+    if (!placed_planar && i == 4) {
+      j.type = JointType::kPlanar;
+      placed_planar = true;
+    }
+    if (!placed_floating && i == 7) {
+      j.type = JointType::kFloating;
+      placed_floating = true;
+    }
+    const BodyIndex parent = static_cast<BodyIndex>(rng.engine()() % (i - 1)) + 1;
+    builder.AddBody("body" + std::to_string(i), RandomInertia(&rng), parent, j);
+  }
+  return builder.Build();
+}
+
+/// A random configuration: joint coordinates in [-1, 1], random unit quaternions.
+inline Eigen::VectorXd RandomConfiguration(const Model& model, Random* rng) {
+  Eigen::VectorXd q = rng->Vector(model.nq());
+  for (JointIndex j : model.floating_joints()) {
+    const Eigen::Quaterniond Q = rng->Quaternion();
+    const int i = model.position_start(j);
+    q(i) = Q.w();
+    q(i + 1) = Q.x();
+    q(i + 2) = Q.y();
+    q(i + 3) = Q.z();
+  }
+  return q;
+}
+
+}  // namespace idto::test
