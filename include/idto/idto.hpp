@@ -22,3 +22,5 @@
 #include "idto/multibody/model_builder.hpp"
 // geometry
 #include "idto/geometry/shape.hpp"
+// contact
+#include "idto/contact/contact_law.hpp"

@@ -238,3 +238,27 @@ TEST(Dynamics, SizeErrorsNameTheArgument) {
 
 }  // namespace
 }  // namespace idto
+
+namespace idto {
+namespace {
+
+TEST(Dynamics, GeneralizedForceFromBodyForcesIsTheRneaExternalForceTerm) {
+  test::Random rng(13);
+  for (const auto& [name, model] : TestModels()) {
+    SCOPED_TRACE(name);
+    Data data(model);
+    const Eigen::VectorXd q = test::RandomConfiguration(model, &rng);
+    const Eigen::VectorXd v = rng.Vector(model.nv());
+    const Eigen::VectorXd a = rng.Vector(model.nv());
+    const BodyForces F = rng.Matrix(6, model.num_bodies());
+    const Eigen::VectorXd tau0 = InverseDynamics(model, q, v, a, &data);
+    const Eigen::VectorXd tauF = InverseDynamics(model, q, v, a, F, &data);
+    ForwardKinematics(model, q, &data);
+    Eigen::VectorXd tau_c;
+    GeneralizedForceFromBodyForces(model, F, &data, &tau_c);
+    EXPECT_EIGEN_NEAR_REL(tau_c, Eigen::VectorXd(tau0 - tauF), 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace idto

@@ -183,4 +183,33 @@ const Eigen::VectorXd& ForwardDynamics(const Model& model,
   return data->a;
 }
 
+void GeneralizedForceFromBodyForces(const Model& model, const BodyForces& F, Data* data,
+                                    Eigen::VectorXd* tau) {
+  if (F.cols() != model.num_bodies()) {
+    CheckSize("GeneralizedForceFromBodyForces", "F.cols()", F.cols(), model.num_bodies(),
+              "model.num_bodies()");
+  }
+  if (tau->size() != model.nv()) tau->resize(model.nv());
+  for (BodyIndex b : model.moving_bodies()) data->force_[b] = SpatialForce::Zero();
+  for (BodyIndex b = 1; b < model.num_bodies(); ++b) {
+    const BodyIndex m = model.mobilized_body(b);
+    if (m == kWorldBody) continue;
+    const Eigen::Vector3d n_W = F.col(b).head<3>();
+    const Eigen::Vector3d f_W = F.col(b).tail<3>();
+    const RigidTransform& X_WM = data->pose(m);
+    // Move the moment from Bo to Mo, then express in M.
+    const Eigen::Vector3d n_Mo = n_W + (data->p_WB(b) - X_WM.p).cross(f_W);
+    data->force_[m].n += X_WM.R.transpose() * n_Mo;
+    data->force_[m].f += X_WM.R.transpose() * f_W;
+  }
+  const std::vector<BodyIndex>& moving = model.moving_bodies();
+  for (auto it = moving.rbegin(); it != moving.rend(); ++it) {
+    const BodyIndex b = *it;
+    internal::ProjectForce(model, b, data->R_JB_[b], data->force_[b],
+                           tau->data() + model.velocity_start(b));
+    const BodyIndex p = model.moving_parent(b);
+    if (p != kWorldBody) data->force_[p] += data->X_pi_[b].ActOn(data->force_[b]);
+  }
+}
+
 }  // namespace idto

@@ -45,4 +45,9 @@ const Eigen::VectorXd& ForwardDynamics(const Model& model,
                                        const Eigen::Ref<const Eigen::VectorXd>& v,
                                        const Eigen::Ref<const Eigen::VectorXd>& tau, Data* data);
 
+/// tau = sum_b J_b^T F_b: the generalized force of spatial forces F (6 x num_bodies, at each
+/// body origin, world frame). `data` must hold ForwardKinematics(q). tau (nv) is resized.
+void GeneralizedForceFromBodyForces(const Model& model, const BodyForces& F, Data* data,
+                                    Eigen::VectorXd* tau);
+
 }  // namespace idto
