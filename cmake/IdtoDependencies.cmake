@@ -5,8 +5,12 @@ find_package(ccd REQUIRED)
 find_package(fcl 0.7 REQUIRED)
 find_package(yaml-cpp REQUIRED)
 
+# TinyXML (urdfdom's own XML library) is used directly by the URDF parser to read the document
+# order of the joints; console_bridge comes with urdfdom_LIBRARIES.
+find_library(IDTO_TINYXML_LIBRARY NAMES tinyxml REQUIRED)
+
 # Private to the library: they never appear in public headers.
-set(IDTO_PRIVATE_DEPS ${urdfdom_LIBRARIES} fcl yaml-cpp)
+set(IDTO_PRIVATE_DEPS ${urdfdom_LIBRARIES} ${IDTO_TINYXML_LIBRARY} fcl yaml-cpp)
 
 find_package(OpenMP COMPONENTS CXX)
 set(IDTO_OPENMP_FOUND ${OpenMP_CXX_FOUND})

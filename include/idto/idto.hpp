@@ -24,3 +24,5 @@
 #include "idto/geometry/shape.hpp"
 // contact
 #include "idto/contact/contact_law.hpp"
+// parsers
+#include "idto/parsers/urdf.hpp"

@@ -3,6 +3,43 @@
 /// @file
 /// URDF -> Model through urdfdom (urdfdom stays out of public headers), and scenes made of
 /// several URDF models merged into one Model.
+///
+/// Conventions:
+///  - Every URDF link becomes a body, added in depth-first order from the root; the children of a
+///    link follow the document order of their joints. This is the order of the joints in q and v.
+///    The body frame of a link is the URDF link frame: JointSpec::X_PJ is the joint's <origin>,
+///    the axis is normalized.
+///  - Joint types: revolute, continuous (one unbounded angle), prismatic, fixed (the child is
+///    merged into its parent for dynamics but keeps its body, frame and geometry), floating
+///    (JointType::kFloating) and planar (JointType::kPlanar, <axis> is the plane normal).
+///  - <dynamics damping> gives the joint damping; <limit effort> the effort limit (effort="0"
+///    means none); <limit lower/upper> the position limits of revolute and prismatic joints (a
+///    <limit> without lower and upper leaves the joint unbounded). Velocity limits, friction,
+///    <mimic>, <safety_controller>, <calibration>, <transmission> and visuals are ignored.
+///  - <inertial>: mass, centre of mass (<origin xyz>) and the inertia tensor given in the frame
+///    rotated by <origin rpy>: I_BBcm_B = R I R^T. A link without <inertial> has no mass, which is
+///    fine when it is welded to (or carries a welded child with) mass, or welded to the world.
+///  - Collision: <sphere>, <box> (full sizes) and <cylinder> (along z, full `length`) become
+///    Sphere, Box and Cylinder with X_BG = the collision <origin>; meshes are skipped. A
+///    geometry is named after its <collision name="...">, or "<link>_collision_<i>" with i the
+///    position of the <collision> element in its link (counting skipped meshes); repeated names
+///    get "_1", "_2", ... appended.
+///  - Every body, joint, frame and geometry name gets UrdfOptions::prefix prepended.
+///  - The root link is attached to the world as UrdfOptions says, by a joint named
+///    prefix + root link + "_root_joint" (for example "ball_root_joint"). A root link named
+///    "world" (without mass) instead stands for the world itself: its child joints attach to the
+///    world body (their <origin> composed with X_WB), its collision geometry goes to the world,
+///    and UrdfOptions::base is not used; with a non-empty prefix a frame prefix + "world" marks
+///    X_WB on the world body.
+///
+/// Errors are FileError naming the file (or `source_name`) and the element, e.g.
+/// "arm.urdf: joint 'elbow': <axis xyz> is (0, 0, 0); expected a non-zero finite vector".
+/// urdfdom's own messages (which it reports through console_bridge) are captured during the parse
+/// and forwarded in the message rather than printed. Options that are not valid (a zero planar
+/// normal, a non-finite X_WB, a null builder) throw InvalidArgument.
+///
+/// Thread safety: the functions may be called from several threads; the urdfdom part of a parse
+/// is serialized (console_bridge's output handler is global).
 
 #include <string>
 
@@ -44,7 +81,10 @@ Model ParseUrdfString(const std::string& urdf_xml, const UrdfOptions& options = 
                       const std::string& source_name = "<urdf string>");
 
 /// Adds the model of a URDF file to `builder` (scenes: call once per model, each with its own
-/// prefix). Returns the index of the root body. Errors as ParseUrdfFile.
+/// prefix). Returns the index of the root body (kWorldBody for a "world" root). Errors as
+/// ParseUrdfFile; the file is checked completely before the builder is touched, but a name
+/// already used in the builder by another model is only found while adding, and the builder
+/// then keeps the bodies added so far.
 BodyIndex AddUrdfFile(const std::string& path, const UrdfOptions& options, ModelBuilder* builder);
 
 /// As AddUrdfFile, from URDF text.
