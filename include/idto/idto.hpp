@@ -26,3 +26,5 @@
 #include "idto/contact/contact_law.hpp"
 // parsers
 #include "idto/parsers/urdf.hpp"
+// sim
+#include "idto/sim/mjcf.hpp"

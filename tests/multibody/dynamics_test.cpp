@@ -116,12 +116,12 @@ TEST(Dynamics, PowerBalanceAlongRandomTrajectories) {
       const Eigen::VectorXd q = RandomConfiguration(model, &rng);
       const Eigen::VectorXd v = rng.Vector(model.nv());
       const Eigen::VectorXd a = rng.Vector(model.nv());
-      auto energy = [&](double t) {
+      auto energy = [&, &m = model](double t) {
         Eigen::VectorXd qt;
-        Integrate(model, q, v, t, &qt);
+        Integrate(m, q, v, t, &qt);
         const Eigen::VectorXd vt = v + t * a;
-        ForwardKinematics(model, qt, vt, &data);
-        return KineticEnergy(model, data) + PotentialEnergy(model, data);
+        ForwardKinematics(m, qt, vt, &data);
+        return KineticEnergy(m, data) + PotentialEnergy(m, data);
       };
       const double h = 1e-4;
       const double dE = (energy(h) - energy(-h)) / (2 * h);

@@ -49,6 +49,19 @@ inline Eigen::Matrix3d RotationFromWxyz(const double* q) {
   return R;
 }
 
+/// The 4 x 3 map G(q) with qdot = G(q) w for a quaternion q = [w, x, y, z] whose angular
+/// velocity w is expressed in the parent (fixed) frame: qdot = 1/2 [0; w] (x) q. G(q)^T q = 0 and
+/// G(q)^T G(q) = |q|^2 / 4 I.
+inline Eigen::Matrix<double, 4, 3> QuaternionRateMatrix(const double* q) {
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  Eigen::Matrix<double, 4, 3> G;
+  G << -x, -y, -z,  //
+      w, z, -y,     //
+      -z, w, x,     //
+      y, -x, w;
+  return 0.5 * G;
+}
+
 /// exp of a rotation vector: the unit quaternion rotating by |theta| about theta/|theta|.
 /// Accurate for small angles (Taylor series below 1e-4 rad).
 inline Eigen::Quaterniond QuaternionExp(const Eigen::Vector3d& theta) {

@@ -64,21 +64,6 @@ void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorX
   Kinematics(model, q.data(), v.data(), data);
 }
 
-namespace {
-
-// The 4x3 block of N for a quaternion [w, x, y, z] with the angular velocity in the joint frame:
-// qdot = 0.5 [0; omega] (x) q.
-Eigen::Matrix<double, 4, 3> QuaternionRateMap(const double* q) {
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  Eigen::Matrix<double, 4, 3> E;
-  E << -x, -y, -z,  //
-      w, z, -y,     //
-      -z, w, x,     //
-      y, -x, w;
-  return 0.5 * E;
-}
-
-}  // namespace
 
 void CalcNMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                  Eigen::MatrixXd* N) {
@@ -87,7 +72,7 @@ void CalcNMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
   for (BodyIndex b : model.moving_bodies()) {
     const int iq = model.position_start(b), iv = model.velocity_start(b);
     if (model.joint_type(b) == JointType::kFloating) {
-      N->block<4, 3>(iq, iv) = QuaternionRateMap(q.data() + iq);
+      N->block<4, 3>(iq, iv) = QuaternionRateMatrix(q.data() + iq);
       N->block<3, 3>(iq + 4, iv + 3).setIdentity();
     } else {
       for (int k = 0; k < model.joint_nv(b); ++k) (*N)(iq + k, iv + k) = 1.0;
@@ -103,7 +88,7 @@ void CalcNplusMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>
     const int iq = model.position_start(b), iv = model.velocity_start(b);
     if (model.joint_type(b) == JointType::kFloating) {
       // E^T E = |q|^2 / 4 I, so the pseudo-inverse of E is (4 / |q|^2) E^T.
-      const Eigen::Matrix<double, 4, 3> E = QuaternionRateMap(q.data() + iq);
+      const Eigen::Matrix<double, 4, 3> E = QuaternionRateMatrix(q.data() + iq);
       const double n2 = q.segment<4>(iq).squaredNorm();
       Nplus->block<3, 4>(iv, iq) = (n2 > 0.0 ? 4.0 / n2 : 0.0) * E.transpose();
       Nplus->block<3, 3>(iv + 3, iq + 4).setIdentity();
