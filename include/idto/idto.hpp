@@ -22,9 +22,17 @@
 #include "idto/multibody/model_builder.hpp"
 // geometry
 #include "idto/geometry/shape.hpp"
-// contact
-#include "idto/contact/contact_law.hpp"
+#include "idto/geometry/signed_distance.hpp"
 // parsers
 #include "idto/parsers/urdf.hpp"
+// contact
+#include "idto/contact/contact_engine.hpp"
+#include "idto/contact/contact_law.hpp"
+// problem and solver
+#include "idto/problem/problem_definition.hpp"
+#include "idto/solver/penta_diagonal_matrix.hpp"
+#include "idto/solver/solver_options.hpp"
+#include "idto/solver/solver_summary.hpp"
+#include "idto/solver/trajectory_optimizer.hpp"
 // sim
 #include "idto/sim/mjcf.hpp"

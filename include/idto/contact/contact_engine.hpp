@@ -1,0 +1,116 @@
+#pragma once
+
+/// @file
+/// Contact on a Model: which geometry pairs can touch (decided once), and per-thread evaluation
+/// of signed distances, contact velocities, forces and the resulting body forces for RNEA.
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "idto/contact/contact_law.hpp"
+#include "idto/core/types.hpp"
+#include "idto/multibody/algorithms/dynamics.hpp"
+#include "idto/multibody/data.hpp"
+#include "idto/multibody/model.hpp"
+
+namespace idto {
+
+/// Overrides some contact parameters for the pairs matching (a, b) in either order. A name
+/// matches a geometry when it equals the geometry's name or its body's name; "*" matches any.
+struct ContactParameterOverride {
+  std::string a;
+  std::string b;
+  std::optional<double> stiffness;
+  std::optional<double> smoothing;
+  std::optional<double> dissipation_velocity;
+  std::optional<double> friction_coefficient;
+  std::optional<double> stiction_velocity;
+};
+
+/// Which pairs can touch, their parameters, and pruning.
+struct ContactOptions {
+  /// The law's parameters for every pair, unless overridden.
+  ContactParameters parameters;
+  /// Per-pair overrides, applied in order (later ones win).
+  std::vector<ContactParameterOverride> overrides;
+  /// Pairs (a, b) never evaluated; names as in ContactParameterOverride.
+  std::vector<std::pair<std::string, std::string>> excluded_pairs;
+  /// Collision groups: lists of geometry or body names; pairs whose two geometries are in the
+  /// same group are not evaluated (e.g. all links of one hand).
+  std::vector<std::vector<std::string>> collision_groups;
+  /// When non-empty, only pairs matching one of these are evaluated (an explicit include may
+  /// also re-enable a pair between a parent and child body).
+  std::vector<std::pair<std::string, std::string>> included_pairs;
+  /// Pairs whose compliance force c(phi) is certainly below this (N) are skipped, using a cheap
+  /// bounding-sphere lower bound on phi against ContactCutoffDistance(). 0 disables pruning.
+  double force_tolerance{1e-8};
+};
+
+/// One pair that can touch, fixed for the life of a ContactEngine.
+struct ContactPair {
+  GeometryIndex geometry_a{0};
+  GeometryIndex geometry_b{0};
+  BodyIndex body_a{0};
+  BodyIndex body_b{0};
+  ContactParameters parameters;
+  /// Pruning distance: beyond it the pair is skipped (+inf when pruning is off).
+  double cutoff_distance{0.0};
+};
+
+/// One evaluated pair.
+struct ContactResult {
+  int pair{0};                ///< index into ContactEngine::pairs()
+  double phi{0.0};            ///< signed distance, m
+  Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};  ///< unit, from A to B
+  Eigen::Vector3d p_WC{Eigen::Vector3d::Zero()};       ///< contact point (midpoint of witnesses)
+  double vn{0.0};             ///< normal relative velocity (B relative to A), m/s
+  Eigen::Vector3d vt{Eigen::Vector3d::Zero()};         ///< tangential relative velocity, m/s
+  ContactForce force;         ///< force on B at C (A receives the opposite)
+  bool exact{true};           ///< false when the distance came from FCL (approximate)
+};
+
+/// Per-thread buffers for EvaluateContacts; nothing is allocated during an evaluation.
+struct ContactData {
+  /// Results of the evaluated (non-pruned) pairs: entries [0, num_active).
+  std::vector<ContactResult> results;
+  int num_active{0};
+  /// Number of pairs skipped by pruning in the last evaluation.
+  int num_pruned{0};
+  /// Spatial contact forces on every body at its origin, world frame (6 x num_bodies), the
+  /// input InverseDynamics takes as external forces.
+  BodyForces F_ext;
+};
+
+/// The immutable contact description of a Model: the list of pairs that can touch.
+class ContactEngine {
+ public:
+  /// Decides the pairs once: never two geometries on the same (welded) body, both on the
+  /// world, two half-spaces, or a parent and a child body joined by a 1-DoF joint (bodies on
+  /// floating or planar joints do touch their parent, e.g. a ball on the ground); then the
+  /// options' filters.
+  /// Throws InvalidArgument naming the option on unknown names or invalid parameters.
+  ContactEngine(const Model& model, const ContactOptions& options);
+
+  const std::vector<ContactPair>& pairs() const { return pairs_; }
+  int num_pairs() const { return static_cast<int>(pairs_.size()); }
+  const ContactOptions& options() const { return options_; }
+  /// Buffers sized for this engine and model.
+  ContactData MakeData(const Model& model) const;
+
+  /// Evaluates every pair that is not pruned. `data` must hold ForwardKinematics(q, v). Fills
+  /// contact_data->results and F_ext. Allocation-free.
+  void Evaluate(const Model& model, const Data& data, ContactData* contact_data) const;
+
+ private:
+  ContactOptions options_;
+  std::vector<ContactPair> pairs_;
+  // Per geometry: bounding-sphere centre in its body frame and radius (inf for half-spaces).
+  std::vector<Eigen::Vector3d> bound_center_B_;
+  std::vector<double> bound_radius_;
+};
+
+}  // namespace idto

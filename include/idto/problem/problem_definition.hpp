@@ -1,0 +1,61 @@
+#pragma once
+
+/// @file
+/// The IDTO problem (paper §4): minimize over q_1..q_N
+///   L(q) = sum_{k=0}^{N-1} dt [ 1/2 |q_k - qbar_k|^2_Qq + 1/2 |v_k - vbar_k|^2_Qv
+///                               + 1/2 |tau_k|^2_R ]
+///        + 1/2 |q_N - qbar_N|^2_Qfq + 1/2 |v_N - vbar_N|^2_Qfv
+/// subject to h(q) = 0 (the unactuated rows of every tau_k), with q_0 = q_init, v_0 = v_init,
+///   v_k = N+(q_k) (q_k - q_{k-1}) / dt,   a_k = (v_{k+1} - v_k) / dt,
+///   tau_k = InverseDynamics(q_{k+1}, v_{k+1}, a_k) - J(q_{k+1})^T f(q_{k+1}, v_{k+1}).
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "idto/contact/contact_engine.hpp"
+#include "idto/multibody/model.hpp"
+
+namespace idto {
+
+/// Everything that defines one trajectory optimization problem on a Model.
+struct ProblemDefinition {
+  double time_step{0.05};  ///< dt, s (> 0)
+  int num_steps{20};       ///< N (>= 1): the horizon is N dt
+
+  Eigen::VectorXd q_init;  ///< q_0 (nq); quaternions are normalized on use
+  Eigen::VectorXd v_init;  ///< v_0 (nv)
+
+  /// Nominal trajectory qbar_k (nq each) and vbar_k (nv each), k = 0..N (N + 1 entries).
+  std::vector<Eigen::VectorXd> q_nom;
+  std::vector<Eigen::VectorXd> v_nom;
+
+  /// Diagonal weights (non-negative): running Qq (nq), Qv (nv), R (nv); terminal Qfq (nq),
+  /// Qfv (nv).
+  Eigen::VectorXd Qq, Qv, R, Qfq, Qfv;
+
+  /// Velocity indices whose generalized force must vanish. Unset: the model's base DoFs
+  /// (floating and planar joints on the world, Model::is_base_velocity()).
+  std::optional<std::vector<int>> unactuated_dofs;
+
+  /// Contact: pairs, parameters, pruning. Disabled when `enable_contact` is false or the
+  /// model has fewer than two geometries.
+  bool enable_contact{true};
+  ContactOptions contact;
+
+  /// Throws InvalidArgument naming the field, the value found and what was expected: sizes,
+  /// non-finite entries, negative weights, non-positive time step, N < 1, bad DoF indices.
+  void Validate(const Model& model) const;
+
+  /// The unactuated DoFs in effect (sorted, unique).
+  std::vector<int> UnactuatedDofs(const Model& model) const;
+
+  /// A problem with zero weights, q_init = neutral, v_init = 0 and nominal = q_init for all k.
+  static ProblemDefinition MakeDefault(const Model& model, double time_step, int num_steps);
+  /// Sets every nominal configuration to q and velocity to v.
+  void SetConstantNominal(const Eigen::VectorXd& q, const Eigen::VectorXd& v);
+};
+
+}  // namespace idto

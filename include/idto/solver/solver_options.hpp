@@ -1,0 +1,56 @@
+#pragma once
+
+/// @file
+/// Options of the IDTO solver (design.md §5). Contact physics is part of the problem.
+
+#include <string>
+
+namespace idto {
+
+/// How the unactuated-torque constraint h(q) = 0 is handled (paper §5.2).
+enum class ConstraintMethod {
+  kNone,                ///< ignore h (R's unactuated entries still weigh it)
+  kPenalty,             ///< quadratic penalty through R's unactuated entries
+  kLagrangeMultipliers  ///< constrained dogleg on the merit L + h^T lambda
+};
+
+/// Finite-difference scheme for d tau / d q.
+enum class DerivativeMethod { kForwardDifferences, kCentralDifferences };
+
+/// Diagonal scaling D of the trust region.
+enum class ScalingMethod {
+  kNone,          ///< D = I
+  kSqrt,          ///< D = diag(H)^(-1/2)
+  kDoubleSqrt     ///< D = diag(H)^(-1/4): the paper's choice
+};
+
+/// Solver options with documented defaults. Check with IsValid().
+struct SolverOptions {
+  int max_iterations{100};           ///< iterations (each: derivatives, factorization, trial)
+  int num_threads{1};                ///< threads for per-step work (results do not depend on it)
+  ConstraintMethod constraint_method{ConstraintMethod::kPenalty};
+  /// kPenalty: when > 0, the weight w of w/2 |h|^2, placed on R's unactuated entries (paper
+  /// §5.2.1); 0 keeps R's unactuated entries as given (the paper's tables set them in R).
+  double penalty_weight{0.0};
+  DerivativeMethod derivative_method{DerivativeMethod::kForwardDifferences};
+  double finite_difference_step{0.0};  ///< relative step; 0: sqrt(eps) (forward) or cbrt(eps)
+  ScalingMethod scaling{ScalingMethod::kDoubleSqrt};
+
+  double initial_trust_radius{1e-1};  ///< in scaled coordinates
+  double max_trust_radius{1e3};
+  double acceptance_ratio{0.05};      ///< eta: accept the step when rho > eta
+
+  /// Convergence (all on by default; set a tolerance to 0 to disable it):
+  double cost_tolerance{1e-10};      ///< |L_new - L| / max(|L|, 1) after an accepted step
+  double gradient_tolerance{1e-12};  ///< |g^T p| / max(|L|, 1)
+  double step_tolerance{1e-12};      ///< |p| / max(|q|, 1)
+  /// Runs exactly max_iterations (MPC); convergence tests are skipped.
+  bool fixed_iterations{false};
+
+  int verbosity{0};                  ///< 0 silent, 1 a line per iteration (to stdout)
+
+  /// True when every field is valid; otherwise false with the reason in *why.
+  bool IsValid(std::string* why) const;
+};
+
+}  // namespace idto

@@ -1,0 +1,68 @@
+#pragma once
+
+/// @file
+/// What a solve reports (design.md §5): per-iteration statistics and the outcome.
+
+#include <string>
+#include <vector>
+
+namespace idto {
+
+enum class TerminationType {
+  kConverged,      ///< a convergence criterion was met
+  kMaxIterations,  ///< ran out of iterations (the normal outcome with fixed_iterations)
+  kFailure,        ///< numerical trouble (non-finite cost, failed factorization); last good
+                   ///< iterate kept
+  kUserTermination ///< a callback asked to stop
+};
+
+/// "converged", "max_iterations", "failure" or "user".
+std::string TerminationTypeName(TerminationType type);
+
+/// Dogleg step kinds.
+enum class DoglegStep { kNewton, kCauchy, kDogleg, kNone };
+
+/// Statistics of one iteration.
+struct IterationSummary {
+  int iteration{0};
+  double cost{0.0};                  ///< L at the start of the iteration
+  double merit{0.0};                 ///< L + h^T lambda (= cost without multipliers)
+  double gradient_norm{0.0};         ///< |g| (of the merit with multipliers)
+  double step_norm{0.0};             ///< |p|
+  double scaled_step_norm{0.0};      ///< |D^-1 p|
+  double trust_radius{0.0};          ///< radius used for this step
+  double ratio{0.0};                 ///< rho = actual / predicted reduction
+  bool accepted{false};
+  DoglegStep step_type{DoglegStep::kNone};
+  double constraint_violation{0.0};  ///< sum of squared unactuated generalized forces
+  double trial_cost{0.0};
+  // Seconds spent in each phase.
+  double time_derivatives{0.0};
+  double time_cost{0.0};
+  double time_hessian{0.0};
+  double time_factorization{0.0};
+  double time_multipliers{0.0};
+  double time_total{0.0};
+};
+
+/// The outcome of a solve.
+struct SolverSummary {
+  TerminationType termination{TerminationType::kMaxIterations};
+  std::string message;
+  int iterations{0};
+  double initial_cost{0.0};
+  double final_cost{0.0};
+  double constraint_violation{0.0};  ///< at the returned trajectory
+  double solve_time{0.0};            ///< s
+  std::vector<IterationSummary> log;
+
+  double mean_iteration_time() const;
+  /// One line: termination, iterations, costs, violation, time.
+  std::string BriefReport() const;
+  /// The iteration table and the timing breakdown.
+  std::string FullReport() const;
+  /// The iteration log as CSV with a header line.
+  std::string ToCsv() const;
+};
+
+}  // namespace idto

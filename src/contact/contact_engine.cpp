@@ -1,0 +1,224 @@
+#include "idto/contact/contact_engine.hpp"
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "idto/core/errors.hpp"
+#include "idto/geometry/signed_distance.hpp"
+
+namespace idto {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+bool Matches(const Model& model, const std::string& name, GeometryIndex g) {
+  const GeometryInstance& geo = model.geometries()[g];
+  return name == "*" || name == geo.name || name == model.body_name(geo.body);
+}
+
+bool PairMatches(const Model& model, const std::string& a, const std::string& b, GeometryIndex ga,
+                 GeometryIndex gb) {
+  return (Matches(model, a, ga) && Matches(model, b, gb)) ||
+         (Matches(model, a, gb) && Matches(model, b, ga));
+}
+
+void CheckName(const Model& model, const std::string& option, const std::string& name) {
+  if (name == "*" || model.HasBody(name)) return;
+  for (const GeometryInstance& g : model.geometries()) {
+    if (g.name == name) return;
+  }
+  ThrowInvalidArgument("ContactEngine", option, "\"" + name + "\"",
+                       "the name of a geometry or body of model \"" + model.name() + "\", or *");
+}
+
+// Bounding sphere of a shape about its frame origin (infinite for a half-space).
+double BoundingRadius(const Shape& shape) {
+  if (const auto* s = std::get_if<Sphere>(&shape)) return s->radius;
+  if (const auto* c = std::get_if<Capsule>(&shape)) return c->radius + 0.5 * c->length;
+  if (const auto* c = std::get_if<Cylinder>(&shape)) {
+    return std::hypot(c->radius, 0.5 * c->length);
+  }
+  if (const auto* b = std::get_if<Box>(&shape)) return 0.5 * b->size.norm();
+  return kInf;
+}
+
+bool IsHalfSpace(const Shape& shape) { return std::holds_alternative<HalfSpace>(shape); }
+
+}  // namespace
+
+ContactEngine::ContactEngine(const Model& model, const ContactOptions& options)
+    : options_(options) {
+  static constexpr const char* kWhere = "ContactEngine";
+  options_.parameters.Validate("ContactEngine: options.parameters");
+  CheckNonNegative(kWhere, "options.force_tolerance", options_.force_tolerance);
+  for (size_t i = 0; i < options_.excluded_pairs.size(); ++i) {
+    const std::string key = "options.excluded_pairs[" + std::to_string(i) + "]";
+    CheckName(model, key, options_.excluded_pairs[i].first);
+    CheckName(model, key, options_.excluded_pairs[i].second);
+  }
+  for (size_t i = 0; i < options_.included_pairs.size(); ++i) {
+    const std::string key = "options.included_pairs[" + std::to_string(i) + "]";
+    CheckName(model, key, options_.included_pairs[i].first);
+    CheckName(model, key, options_.included_pairs[i].second);
+  }
+  for (size_t i = 0; i < options_.collision_groups.size(); ++i) {
+    for (const std::string& name : options_.collision_groups[i]) {
+      CheckName(model, "options.collision_groups[" + std::to_string(i) + "]", name);
+    }
+  }
+  for (size_t i = 0; i < options_.overrides.size(); ++i) {
+    const std::string key = "options.overrides[" + std::to_string(i) + "]";
+    CheckName(model, key, options_.overrides[i].a);
+    CheckName(model, key, options_.overrides[i].b);
+  }
+
+  const std::vector<GeometryInstance>& geos = model.geometries();
+  const int ng = static_cast<int>(geos.size());
+  bound_center_B_.resize(ng);
+  bound_radius_.resize(ng);
+  for (int g = 0; g < ng; ++g) {
+    bound_center_B_[g] = geos[g].X_BG.translation();
+    bound_radius_[g] = BoundingRadius(geos[g].shape);
+  }
+
+  auto in_same_group = [&](GeometryIndex ga, GeometryIndex gb) {
+    for (const std::vector<std::string>& group : options_.collision_groups) {
+      bool has_a = false, has_b = false;
+      for (const std::string& name : group) {
+        has_a = has_a || Matches(model, name, ga);
+        has_b = has_b || Matches(model, name, gb);
+      }
+      if (has_a && has_b) return true;
+    }
+    return false;
+  };
+
+  for (GeometryIndex ga = 0; ga < ng; ++ga) {
+    for (GeometryIndex gb = ga + 1; gb < ng; ++gb) {
+      const BodyIndex ma = model.mobilized_body(geos[ga].body);
+      const BodyIndex mb = model.mobilized_body(geos[gb].body);
+      if (ma == mb) continue;  // same rigid body (or both on the world)
+      if (IsHalfSpace(geos[ga].shape) && IsHalfSpace(geos[gb].shape)) continue;
+      // Bodies joined by a 1-DoF joint usually overlap at the joint: skip them. Bodies on
+      // floating or planar joints move freely with respect to their parent (a ball on the
+      // ground): keep them.
+      auto hinged_to = [&](BodyIndex child, BodyIndex parent) {
+        if (child == kWorldBody || model.moving_parent(child) != parent) return false;
+        const JointType t = model.joint_type(child);
+        return t != JointType::kFloating && t != JointType::kPlanar;
+      };
+      const bool adjacent = hinged_to(ma, mb) || hinged_to(mb, ma);
+      bool included = !adjacent;
+      if (!options_.included_pairs.empty()) {
+        included = false;
+        for (const auto& [a, b] : options_.included_pairs) {
+          if (PairMatches(model, a, b, ga, gb)) included = true;
+        }
+      }
+      if (!included) continue;
+      bool excluded = false;
+      for (const auto& [a, b] : options_.excluded_pairs) {
+        if (PairMatches(model, a, b, ga, gb)) excluded = true;
+      }
+      if (excluded || in_same_group(ga, gb)) continue;
+
+      ContactPair pair;
+      // Half-spaces go first so that A is the ground in ground contacts (normal +z).
+      const bool swap = IsHalfSpace(geos[gb].shape);
+      pair.geometry_a = swap ? gb : ga;
+      pair.geometry_b = swap ? ga : gb;
+      pair.body_a = geos[pair.geometry_a].body;
+      pair.body_b = geos[pair.geometry_b].body;
+      pair.parameters = options_.parameters;
+      for (const ContactParameterOverride& o : options_.overrides) {
+        if (!PairMatches(model, o.a, o.b, ga, gb)) continue;
+        ContactParameters& p = pair.parameters;
+        if (o.stiffness) p.stiffness = *o.stiffness;
+        if (o.smoothing) p.smoothing = *o.smoothing;
+        if (o.dissipation_velocity) p.dissipation_velocity = *o.dissipation_velocity;
+        if (o.friction_coefficient) p.friction_coefficient = *o.friction_coefficient;
+        if (o.stiction_velocity) p.stiction_velocity = *o.stiction_velocity;
+      }
+      pair.parameters.Validate("ContactEngine: parameters of pair (\"" + geos[ga].name +
+                               "\", \"" + geos[gb].name + "\")");
+      pair.cutoff_distance = options_.force_tolerance > 0.0
+                                 ? ContactCutoffDistance(pair.parameters, options_.force_tolerance)
+                                 : kInf;
+      pairs_.push_back(pair);
+    }
+  }
+}
+
+ContactData ContactEngine::MakeData(const Model& model) const {
+  ContactData data;
+  data.results.resize(pairs_.size());
+  data.F_ext = BodyForces::Zero(6, model.num_bodies());
+  return data;
+}
+
+void ContactEngine::Evaluate(const Model& model, const Data& data,
+                             ContactData* contact_data) const {
+  if (contact_data->results.size() != pairs_.size() ||
+      contact_data->F_ext.cols() != model.num_bodies()) {
+    ThrowInvalidArgument("ContactEngine::Evaluate", "contact_data",
+                         "sized for another engine or model", "ContactEngine::MakeData(model)");
+  }
+  const std::vector<GeometryInstance>& geos = model.geometries();
+  contact_data->F_ext.setZero();
+  contact_data->num_active = 0;
+  contact_data->num_pruned = 0;
+  for (int i = 0; i < num_pairs(); ++i) {
+    const ContactPair& pair = pairs_[i];
+    const GeometryInstance& ga = geos[pair.geometry_a];
+    const GeometryInstance& gb = geos[pair.geometry_b];
+    const RigidTransform& X_WA = data.pose(pair.body_a);
+    const RigidTransform& X_WB = data.pose(pair.body_b);
+    if (pair.cutoff_distance < kInf) {
+      // A lower bound on phi from bounding spheres (B is never a half-space).
+      const Eigen::Vector3d c_B = X_WB * bound_center_B_[pair.geometry_b];
+      double lower_bound;
+      if (IsHalfSpace(ga.shape)) {
+        const Eigen::Vector3d n_W = X_WA.R * ga.X_BG.linear().col(2);
+        const Eigen::Vector3d p_W = X_WA * Eigen::Vector3d(ga.X_BG.translation());
+        lower_bound = n_W.dot(c_B - p_W) - bound_radius_[pair.geometry_b];
+      } else {
+        const Eigen::Vector3d c_A = X_WA * bound_center_B_[pair.geometry_a];
+        lower_bound =
+            (c_B - c_A).norm() - bound_radius_[pair.geometry_a] - bound_radius_[pair.geometry_b];
+      }
+      if (lower_bound > pair.cutoff_distance) {
+        ++contact_data->num_pruned;
+        continue;
+      }
+    }
+    const Eigen::Isometry3d X_WGa = data.X_WB(pair.body_a) * ga.X_BG;
+    const Eigen::Isometry3d X_WGb = data.X_WB(pair.body_b) * gb.X_BG;
+    const SignedDistanceResult sd = SignedDistance(ga.shape, X_WGa, gb.shape, X_WGb);
+    ContactResult& r = contact_data->results[contact_data->num_active++];
+    r.pair = i;
+    r.phi = sd.distance;
+    r.normal_W = sd.normal_W;
+    r.exact = sd.exact;
+    r.p_WC = 0.5 * (sd.p_WA + sd.p_WB);
+    // Velocity of C moving with B relative to C moving with A.
+    const Eigen::Vector3d v_WCb =
+        data.v_WBo(pair.body_b) + data.w_WB(pair.body_b).cross(r.p_WC - X_WB.p);
+    const Eigen::Vector3d v_WCa =
+        data.v_WBo(pair.body_a) + data.w_WB(pair.body_a).cross(r.p_WC - X_WA.p);
+    const Eigen::Vector3d v_c = v_WCb - v_WCa;
+    r.vn = r.normal_W.dot(v_c);
+    r.vt = v_c - r.vn * r.normal_W;
+    r.force = CalcContactForce(pair.parameters, r.phi, r.vn, r.vt, r.normal_W);
+    const Eigen::Vector3d& f = r.force.f;
+    auto F_b = contact_data->F_ext.col(pair.body_b);
+    F_b.head<3>() += (r.p_WC - X_WB.p).cross(f);
+    F_b.tail<3>() += f;
+    auto F_a = contact_data->F_ext.col(pair.body_a);
+    F_a.head<3>() -= (r.p_WC - X_WA.p).cross(f);
+    F_a.tail<3>() -= f;
+  }
+}
+
+}  // namespace idto

@@ -1,0 +1,108 @@
+#include "idto/problem/problem_definition.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "idto/core/errors.hpp"
+
+namespace idto {
+
+namespace {
+
+constexpr const char* kWhere = "ProblemDefinition";
+
+void CheckVector(const std::string& name, const Eigen::VectorXd& x, int size,
+                 const char* size_name) {
+  CheckSize(kWhere, name, x.size(), size, size_name);
+  CheckFinite(kWhere, name, x);
+}
+
+void CheckWeights(const std::string& name, const Eigen::VectorXd& w, int size,
+                  const char* size_name) {
+  CheckSize(kWhere, name, w.size(), size, size_name);
+  CheckNonNegative(kWhere, name, w);
+}
+
+}  // namespace
+
+void ProblemDefinition::Validate(const Model& model) const {
+  CheckPositive(kWhere, "time_step", time_step);
+  if (num_steps < 1) {
+    ThrowInvalidArgument(kWhere, "num_steps", std::to_string(num_steps), "at least 1");
+  }
+  const int nq = model.nq(), nv = model.nv();
+  CheckVector("q_init", q_init, nq, "model.nq()");
+  CheckVector("v_init", v_init, nv, "model.nv()");
+  for (JointIndex j : model.floating_joints()) {
+    if (q_init.segment<4>(model.position_start(j)).norm() < 1e-12) {
+      ThrowInvalidArgument(kWhere, "q_init quaternion of joint \"" + model.joint_name(j) + "\"",
+                           "zero", "a non-zero quaternion");
+    }
+  }
+  const size_t expected = static_cast<size_t>(num_steps) + 1;
+  if (q_nom.size() != expected) {
+    ThrowInvalidArgument(kWhere, "q_nom", std::to_string(q_nom.size()) + " entries",
+                         std::to_string(expected) + " entries (num_steps + 1)");
+  }
+  if (v_nom.size() != expected) {
+    ThrowInvalidArgument(kWhere, "v_nom", std::to_string(v_nom.size()) + " entries",
+                         std::to_string(expected) + " entries (num_steps + 1)");
+  }
+  for (size_t k = 0; k < expected; ++k) {
+    CheckVector("q_nom[" + std::to_string(k) + "]", q_nom[k], nq, "model.nq()");
+    CheckVector("v_nom[" + std::to_string(k) + "]", v_nom[k], nv, "model.nv()");
+  }
+  CheckWeights("Qq", Qq, nq, "model.nq()");
+  CheckWeights("Qv", Qv, nv, "model.nv()");
+  CheckWeights("R", R, nv, "model.nv()");
+  CheckWeights("Qfq", Qfq, nq, "model.nq()");
+  CheckWeights("Qfv", Qfv, nv, "model.nv()");
+  if (unactuated_dofs) {
+    for (size_t i = 0; i < unactuated_dofs->size(); ++i) {
+      const int d = (*unactuated_dofs)[i];
+      if (d < 0 || d >= nv) {
+        ThrowInvalidArgument(kWhere, "unactuated_dofs[" + std::to_string(i) + "]",
+                             std::to_string(d),
+                             "a velocity index in [0, " + std::to_string(nv) + ")");
+      }
+    }
+  }
+  contact.parameters.Validate("ProblemDefinition: contact.parameters");
+}
+
+std::vector<int> ProblemDefinition::UnactuatedDofs(const Model& model) const {
+  std::vector<int> dofs;
+  if (unactuated_dofs) {
+    dofs = *unactuated_dofs;
+  } else {
+    for (int i = 0; i < model.nv(); ++i) {
+      if (model.is_base_velocity()[i]) dofs.push_back(i);
+    }
+  }
+  std::sort(dofs.begin(), dofs.end());
+  dofs.erase(std::unique(dofs.begin(), dofs.end()), dofs.end());
+  return dofs;
+}
+
+ProblemDefinition ProblemDefinition::MakeDefault(const Model& model, double time_step,
+                                                 int num_steps) {
+  ProblemDefinition p;
+  p.time_step = time_step;
+  p.num_steps = num_steps;
+  p.q_init = model.NeutralConfiguration();
+  p.v_init = Eigen::VectorXd::Zero(model.nv());
+  p.Qq = Eigen::VectorXd::Zero(model.nq());
+  p.Qfq = Eigen::VectorXd::Zero(model.nq());
+  p.Qv = Eigen::VectorXd::Zero(model.nv());
+  p.Qfv = Eigen::VectorXd::Zero(model.nv());
+  p.R = Eigen::VectorXd::Zero(model.nv());
+  p.SetConstantNominal(p.q_init, p.v_init);
+  return p;
+}
+
+void ProblemDefinition::SetConstantNominal(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
+  q_nom.assign(std::max(num_steps, 0) + 1, q);
+  v_nom.assign(std::max(num_steps, 0) + 1, v);
+}
+
+}  // namespace idto

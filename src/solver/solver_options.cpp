@@ -1,0 +1,40 @@
+#include "idto/solver/solver_options.hpp"
+
+#include <cmath>
+#include <sstream>
+
+namespace idto {
+
+bool SolverOptions::IsValid(std::string* why) const {
+  std::ostringstream out;
+  auto fail = [&](const char* field, double value, const char* expected) {
+    out << "SolverOptions: " << field << " is " << value << "; expected " << expected;
+    if (why != nullptr) *why = out.str();
+    return false;
+  };
+  if (max_iterations < 0) return fail("max_iterations", max_iterations, "a number >= 0");
+  if (num_threads < 1) return fail("num_threads", num_threads, "a number >= 1");
+  if (!(std::isfinite(penalty_weight) && penalty_weight >= 0)) {
+    return fail("penalty_weight", penalty_weight, "a finite number >= 0");
+  }
+  if (!(std::isfinite(finite_difference_step) && finite_difference_step >= 0 &&
+        finite_difference_step < 1)) {
+    return fail("finite_difference_step", finite_difference_step, "in [0, 1) (0: automatic)");
+  }
+  if (!(std::isfinite(initial_trust_radius) && initial_trust_radius > 0)) {
+    return fail("initial_trust_radius", initial_trust_radius, "a finite number > 0");
+  }
+  if (!(std::isfinite(max_trust_radius) && max_trust_radius >= initial_trust_radius)) {
+    return fail("max_trust_radius", max_trust_radius, "a finite number >= initial_trust_radius");
+  }
+  if (!(acceptance_ratio >= 0 && acceptance_ratio < 0.25)) {
+    return fail("acceptance_ratio", acceptance_ratio, "in [0, 0.25)");
+  }
+  if (!(cost_tolerance >= 0)) return fail("cost_tolerance", cost_tolerance, ">= 0");
+  if (!(gradient_tolerance >= 0)) return fail("gradient_tolerance", gradient_tolerance, ">= 0");
+  if (!(step_tolerance >= 0)) return fail("step_tolerance", step_tolerance, ">= 0");
+  if (why != nullptr) why->clear();
+  return true;
+}
+
+}  // namespace idto
