@@ -1,5 +1,6 @@
 #include "idto/contact/contact_engine.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -149,12 +150,137 @@ ContactEngine::ContactEngine(const Model& model, const ContactOptions& options)
       pairs_.push_back(pair);
     }
   }
+
+  // Broad phase: pairs (static bounded geometry, moving geometry) go through a hierarchy when
+  // pruning is on and there are enough of them to matter.
+  int num_static_pairs = 0;
+  auto is_static_bounded = [&](GeometryIndex g) {
+    return model.mobilized_body(geos[g].body) == kWorldBody && !IsHalfSpace(geos[g].shape);
+  };
+  for (const ContactPair& p : pairs_) {
+    if (is_static_bounded(p.geometry_a) || is_static_bounded(p.geometry_b)) ++num_static_pairs;
+    max_cutoff_ = std::max(max_cutoff_, p.cutoff_distance);
+  }
+  use_bvh_ = options_.force_tolerance > 0.0 && num_static_pairs >= 16 && max_cutoff_ < kInf;
+  if (use_bvh_) {
+    static_center_W_.assign(ng, Eigen::Vector3d::Zero());
+    std::vector<int> partner_slot(ng, -1);
+    for (int i = 0; i < num_pairs(); ++i) {
+      const ContactPair& p = pairs_[i];
+      const bool sa = is_static_bounded(p.geometry_a), sb = is_static_bounded(p.geometry_b);
+      if (!sa && !sb) {
+        other_pairs_.push_back(i);
+        continue;
+      }
+      const GeometryIndex gs = sa ? p.geometry_a : p.geometry_b;
+      const GeometryIndex gm = sa ? p.geometry_b : p.geometry_a;
+      if (partner_slot[gm] < 0) {
+        partner_slot[gm] = static_cast<int>(moving_with_static_.size());
+        moving_with_static_.push_back(gm);
+        static_partners_.emplace_back();
+      }
+      static_partners_[partner_slot[gm]].push_back(StaticPartner{gs, i});
+    }
+    for (auto& list : static_partners_) {
+      std::sort(list.begin(), list.end(), [](const StaticPartner& x, const StaticPartner& y) {
+        return x.static_geometry < y.static_geometry;
+      });
+    }
+    for (GeometryIndex g = 0; g < ng; ++g) {
+      if (!is_static_bounded(g)) continue;
+      // Static: the body is the world or welded to it; its pose is fixed.
+      const BodyIndex b = geos[g].body;
+      const RigidTransform& X_WB = model.X_MB(b);  // the world is the mobilized body
+      static_center_W_[g] = X_WB * bound_center_B_[g];
+      bvh_items_.push_back(g);
+    }
+    bvh_.reserve(2 * bvh_items_.size());
+    BuildBvh(0, static_cast<int>(bvh_items_.size()));
+  }
+}
+
+int ContactEngine::BuildBvh(int first, int count) {
+  BvhNode node;
+  node.lower = Eigen::Vector3d::Constant(kInf);
+  node.upper = Eigen::Vector3d::Constant(-kInf);
+  for (int i = first; i < first + count; ++i) {
+    const GeometryIndex g = bvh_items_[i];
+    const Eigen::Vector3d r = Eigen::Vector3d::Constant(bound_radius_[g]);
+    node.lower = node.lower.cwiseMin(static_center_W_[g] - r);
+    node.upper = node.upper.cwiseMax(static_center_W_[g] + r);
+  }
+  const int index = static_cast<int>(bvh_.size());
+  bvh_.push_back(node);
+  if (count <= 4) {
+    bvh_[index].first = first;
+    bvh_[index].count = count;
+    return index;
+  }
+  // Median split along the longest axis of the centres (deterministic: ties by index).
+  int axis;
+  (node.upper - node.lower).maxCoeff(&axis);
+  auto begin = bvh_items_.begin() + first;
+  std::nth_element(begin, begin + count / 2, begin + count, [&](GeometryIndex x, GeometryIndex y) {
+    const double cx = static_center_W_[x](axis), cy = static_center_W_[y](axis);
+    return cx < cy || (cx == cy && x < y);
+  });
+  const int left = BuildBvh(first, count / 2);
+  const int right = BuildBvh(first + count / 2, count - count / 2);
+  bvh_[index].left = left;
+  bvh_[index].right = right;
+  return index;
+}
+
+void ContactEngine::CollectCandidates(const Model& model, const Data& data,
+                                      ContactData* cd) const {
+  (void)model;
+  cd->candidates.clear();
+  for (int i : other_pairs_) cd->candidates.push_back(i);
+  const std::vector<GeometryInstance>& geos = model.geometries();
+  for (size_t m = 0; m < moving_with_static_.size(); ++m) {
+    const GeometryIndex gm = moving_with_static_[m];
+    const Eigen::Vector3d c = data.pose(geos[gm].body) * bound_center_B_[gm];
+    const double reach = bound_radius_[gm] + max_cutoff_;
+    const std::vector<StaticPartner>& partners = static_partners_[m];
+    int stack[64];
+    int top = 0;
+    stack[top++] = 0;
+    while (top > 0) {
+      const BvhNode& node = bvh_[stack[--top]];
+      // Distance from c to the box, against the reach.
+      const Eigen::Vector3d d =
+          (node.lower - c).cwiseMax(Eigen::Vector3d::Zero()).cwiseMax(c - node.upper);
+      if (d.squaredNorm() > reach * reach) continue;
+      if (node.count == 0) {
+        if (top + 2 > 64) {  // never for a balanced tree of < 2^60 items; stay safe
+          for (const StaticPartner& sp : partners) cd->candidates.push_back(sp.pair);
+          top = 0;
+          break;
+        }
+        stack[top++] = node.left;
+        stack[top++] = node.right;
+        continue;
+      }
+      for (int i = node.first; i < node.first + node.count; ++i) {
+        const GeometryIndex gs = bvh_items_[i];
+        const auto it = std::lower_bound(
+            partners.begin(), partners.end(), gs,
+            [](const StaticPartner& sp, GeometryIndex g) { return sp.static_geometry < g; });
+        if (it != partners.end() && it->static_geometry == gs) cd->candidates.push_back(it->pair);
+      }
+    }
+  }
+  // Evaluate in pair order whatever the traversal order: results are deterministic.
+  std::sort(cd->candidates.begin(), cd->candidates.end());
+  cd->candidates.erase(std::unique(cd->candidates.begin(), cd->candidates.end()),
+                       cd->candidates.end());
 }
 
 ContactData ContactEngine::MakeData(const Model& model) const {
   ContactData data;
   data.results.resize(pairs_.size());
   data.F_ext = BodyForces::Zero(6, model.num_bodies());
+  data.candidates.reserve(pairs_.size());
   return data;
 }
 
@@ -169,7 +295,12 @@ void ContactEngine::Evaluate(const Model& model, const Data& data,
   contact_data->F_ext.setZero();
   contact_data->num_active = 0;
   contact_data->num_pruned = 0;
-  for (int i = 0; i < num_pairs(); ++i) {
+  if (use_bvh_) CollectCandidates(model, data, contact_data);
+  const int num_candidates =
+      use_bvh_ ? static_cast<int>(contact_data->candidates.size()) : num_pairs();
+  contact_data->num_pruned = num_pairs() - num_candidates;
+  for (int c = 0; c < num_candidates; ++c) {
+    const int i = use_bvh_ ? contact_data->candidates[c] : c;
     const ContactPair& pair = pairs_[i];
     const GeometryInstance& ga = geos[pair.geometry_a];
     const GeometryInstance& gb = geos[pair.geometry_b];

@@ -225,6 +225,63 @@ TEST(ContactEngine, PruningChangesForcesByLessThanTheTolerance) {
   }
 }
 
+TEST(ContactEngine, BroadPhaseOverStaticGeometryNeverMissesAPairWithinTheCutoff) {
+  // Two free balls among 60 static spheres (some welded to a fixed body), near and far.
+  ModelBuilder builder("crowd");
+  builder.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
+  JointSpec weld;
+  weld.name = "table_weld";
+  weld.type = JointType::kFixed;
+  weld.X_PJ.translation() << 0.3, -0.2, 0.0;
+  const BodyIndex table = builder.AddBody("table", BodyInertia{}, kWorldBody, weld);
+  test::Random rng(17);
+  for (int i = 0; i < 60; ++i) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.translation() = rng.Vector(3, -1.0, 1.0);
+    X.translation().z() = std::abs(X.translation().z());
+    builder.AddGeometry("static" + std::to_string(i), i % 3 == 0 ? table : kWorldBody, X,
+                        Sphere{rng.Uniform(0.02, 0.1)});
+  }
+  for (const char* name : {"ball1", "ball2"}) {
+    JointSpec j;
+    j.name = std::string(name) + "_free";
+    j.type = JointType::kFloating;
+    const BodyIndex b = builder.AddBody(name, Ball(0.5, 0.1), kWorldBody, j);
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.translation() << 0.05, 0.0, 0.0;  // off-centre: the bound is not at the body origin
+    builder.AddGeometry(std::string(name) + "_sphere", b, X, Sphere{0.1});
+  }
+  const Model model = builder.Build();
+  ContactOptions pruned_options;
+  pruned_options.force_tolerance = 1e-3;
+  ContactOptions full_options = pruned_options;
+  full_options.force_tolerance = 0.0;
+  const ContactEngine pruned(model, pruned_options), full(model, full_options);
+  ContactData pd = pruned.MakeData(model), fd = full.MakeData(model);
+  Data data(model);
+  int checked = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    Eigen::VectorXd q = model.NeutralConfiguration();
+    q.segment<3>(model.GetPositionStart("ball1_free") + 4) = rng.Vector(3, -1.0, 1.0);
+    q.segment<3>(model.GetPositionStart("ball2_free") + 4) = rng.Vector(3, -1.0, 1.0);
+    ForwardKinematics(model, q, Eigen::VectorXd::Zero(model.nv()), &data);
+    pruned.Evaluate(model, data, &pd);
+    full.Evaluate(model, data, &fd);
+    EXPECT_GT(pd.num_pruned, 0);
+    for (int i = 0; i < fd.num_active; ++i) {
+      const ContactResult& r = fd.results[i];
+      if (r.phi > pruned.pairs()[r.pair].cutoff_distance) continue;
+      bool found = false;
+      for (int j = 0; j < pd.num_active; ++j) found = found || pd.results[j].pair == r.pair;
+      EXPECT_TRUE(found) << "pair " << r.pair << " at phi " << r.phi << " missed";
+      ++checked;
+    }
+    // Evaluated in pair order (deterministic).
+    for (int j = 1; j < pd.num_active; ++j) EXPECT_LT(pd.results[j - 1].pair, pd.results[j].pair);
+  }
+  EXPECT_GT(checked, 50);
+}
+
 TEST(ContactEngine, EvaluationDoesNotAllocate) {
   // Allocation counting lives in the multibody test binary; here check the buffers are reused.
   const Model model = Scene();

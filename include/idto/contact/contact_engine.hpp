@@ -83,6 +83,8 @@ struct ContactData {
   /// Spatial contact forces on every body at its origin, world frame (6 x num_bodies), the
   /// input InverseDynamics takes as external forces.
   BodyForces F_ext;
+  /// Scratch: candidate pairs of the broad phase (capacity: the number of pairs).
+  std::vector<int> candidates;
 };
 
 /// The immutable contact description of a Model: the list of pairs that can touch.
@@ -111,6 +113,31 @@ class ContactEngine {
   // Per geometry: bounding-sphere centre in its body frame and radius (inf for half-spaces).
   std::vector<Eigen::Vector3d> bound_center_B_;
   std::vector<double> bound_radius_;
+
+  // Broad phase for pairs between a moving geometry and a bounded static (world) geometry: a
+  // bounding-volume hierarchy over the static geometries' fixed bounding spheres, queried once
+  // per moving geometry, instead of one bound test per pair.
+  struct BvhNode {
+    Eigen::Vector3d lower, upper;  // AABB of the bounding spheres below
+    int first{0}, count{0};        // leaf: range in bvh_items_; inner: count = 0
+    int left{-1}, right{-1};
+  };
+  struct StaticPartner {
+    GeometryIndex static_geometry;
+    int pair;
+  };
+  std::vector<BvhNode> bvh_;
+  std::vector<GeometryIndex> bvh_items_;
+  std::vector<Eigen::Vector3d> static_center_W_;  // per geometry (static ones only)
+  // Per moving geometry with static partners: its partners sorted by static geometry index.
+  std::vector<GeometryIndex> moving_with_static_;
+  std::vector<std::vector<StaticPartner>> static_partners_;
+  std::vector<int> other_pairs_;  // pairs not handled by the hierarchy, in order
+  double max_cutoff_{0.0};
+  bool use_bvh_{false};
+
+  int BuildBvh(int first, int count);
+  void CollectCandidates(const Model& model, const Data& data, ContactData* cd) const;
 };
 
 }  // namespace idto
