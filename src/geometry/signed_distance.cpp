@@ -43,8 +43,8 @@ constexpr double kMinSquaredNorm = 1e-290;
 // Relative size of a height difference below which a deepest segment/edge/face of a shape
 // against a half-space is treated as parallel to the plane (see the header).
 constexpr double kTieTolerance = 1e-12;
-// sin² of the angle below which two capsule axes are treated as parallel: near this angle the
-// closed form for crossing segments and the parallel-overlap rule have comparable error.
+// sin² of the angle below which two capsule axes are treated as (nearly) parallel: below it the
+// closed form for crossing lines loses accuracy as eps/sin²θ and the overlap rule is used.
 constexpr double kParallelSin2 = 1e-15;
 // Shapes are handed to FCL scaled to unit size; these tolerances are therefore relative.
 // GJK distance converges to ~1e-11 with 1e-12. FCL's libccd EPA (used in penetration) aborts
@@ -217,8 +217,12 @@ SignedDistanceResult SphereCylinder(const Sphere& sphere, const Isometry3d& X_WA
     if (rho > R) q.head<2>() *= R / rho;
     q.z() = std::clamp(c.z(), -h, h);
     const Vector3d v = c - q;
-    const double len = v.norm();  // > 0: some coordinate was clamped
-    return SphereAgainstSurface(c_W, sphere.radius, X_WB, q, v / len, len);
+    const double len2 = v.squaredNorm();
+    // (R/ρ may round to 1 just outside the side: then treat the centre as on the surface.)
+    if (len2 > kMinSquaredNorm) {
+      const double len = std::sqrt(len2);
+      return SphereAgainstSurface(c_W, sphere.radius, X_WB, q, v / len, len);
+    }
   }
   // Inside (or on the surface): the nearest of side, +z cap, −z cap, in that order on ties.
   const double depth_side = R - rho;
@@ -246,8 +250,11 @@ SignedDistanceResult SphereBox(const Sphere& sphere, const Isometry3d& X_WA, con
   if ((c.cwiseAbs().array() > e.array()).any()) {
     const Vector3d q = c.cwiseMax(-e).cwiseMin(e);
     const Vector3d v = c - q;
-    const double len = v.norm();  // > 0: some coordinate was clamped
-    return SphereAgainstSurface(c_W, sphere.radius, X_WB, q, v / len, len);
+    const double len2 = v.squaredNorm();
+    if (len2 > kMinSquaredNorm) {
+      const double len = std::sqrt(len2);
+      return SphereAgainstSurface(c_W, sphere.radius, X_WB, q, v / len, len);
+    }
   }
   // Inside (or on the surface): nearest face; ties to the lower axis, then to the + face.
   int axis = 0;
@@ -326,16 +333,26 @@ std::pair<double, double> ClosestSegmentParameters(const Vector3d& p_A, const Ve
     // Minimizer of |r + s u_A − t u_B|² over the lines, then Ericson's clamping sequence.
     s = std::clamp((b * f - c) / denom, -h_A, h_A);
   } else {
-    // Parallel: B's extent projected on A's axis is [lo, hi]; take the middle of its overlap
-    // with [−h_A, h_A] (or the nearer end of A when they do not overlap).
+    // (Nearly) parallel: B's extent projected on A's axis is [lo, hi]. Over its overlap with
+    // [−h_A, h_A] the gap P(s) − Q(b s + f) = w0 + s v is affine, v = u_A − b u_B being tiny.
     const double s0 = -c - b * h_B;
     const double s1 = -c + b * h_B;
     const double lo = std::max(std::min(s0, s1), -h_A);
     const double hi = std::min(std::max(s0, s1), h_A);
     if (lo <= hi) {
-      s = 0.5 * (lo + hi);
+      const Vector3d v = u_A - b * u_B;
+      const Vector3d w0 = r - f * u_B;
+      const double v2 = v.squaredNorm();
+      // The gap changes by at most |v|(hi − lo) over the overlap: when that is round-off, the
+      // axes are parallel and the middle of the overlap is the (deterministic) witness.
+      const double tie = kTieTolerance * (hi - lo + w0.norm());
+      if (v2 * (hi - lo) * (hi - lo) <= tie * tie) {
+        s = 0.5 * (lo + hi);
+      } else {
+        s = std::clamp(-w0.dot(v) / v2, lo, hi);
+      }
     } else {
-      s = hi < -h_A ? -h_A : h_A;
+      s = hi < -h_A ? -h_A : h_A;  // no overlap: A's end nearer to B
     }
   }
   double t = b * s + f;
