@@ -36,3 +36,5 @@
 #include "idto/solver/trajectory_optimizer.hpp"
 // sim
 #include "idto/sim/mjcf.hpp"
+// example configuration files (YAML): builds models, problems and solver options
+#include "idto/parsers/config.hpp"

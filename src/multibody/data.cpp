@@ -17,7 +17,11 @@ Data::Data(const Model& model)
       composite_(model.num_bodies()),
       F_(Eigen::Matrix<double, 6, 6>::Zero()),
       llt_(model.nv()),
-      scratch_v_(Eigen::VectorXd::Zero(model.nv())) {}
+      scratch_v_(Eigen::VectorXd::Zero(model.nv())) {
+  // Eigen's LLT(size) leaves its status uninitialized until compute(); copying or moving a Data
+  // would read it. Factor the identity once so every member is defined.
+  llt_.compute(Eigen::MatrixXd::Identity(model.nv(), model.nv()));
+}
 
 Eigen::Isometry3d Data::X_WB(BodyIndex b) const {
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();

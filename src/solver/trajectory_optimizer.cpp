@@ -108,6 +108,7 @@ class TrajectoryOptimizer::Impl {
     std::string why;
     if (!options_.IsValid(&why)) throw InvalidArgument("TrajectoryOptimizer: " + why);
     UpdateEffectiveWeights();
+    workspaces_.reserve(options_.num_threads);
     while (static_cast<int>(workspaces_.size()) < options_.num_threads) {
       workspaces_.emplace_back(model_, engine_ ? &*engine_ : nullptr);
     }
@@ -119,7 +120,8 @@ class TrajectoryOptimizer::Impl {
       At_ = Eigen::MatrixXd::Zero(N_ * nq_, m);
       HinvAt_ = At_;
       S_ = Eigen::MatrixXd::Zero(m, m);
-      S_llt_ = Eigen::LLT<Eigen::MatrixXd>(m);
+      // compute() sizes the factor and defines its status (LLT(size) leaves it undefined).
+      S_llt_.compute(Eigen::MatrixXd::Identity(m, m));
     }
   }
 

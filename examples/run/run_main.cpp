@@ -1,0 +1,644 @@
+// idto-run: solves the trajectory optimization problem of an example configuration (YAML) and
+// reports the result.
+//
+//   idto-run CONFIG.yaml|NAME [--max-iterations N] [--threads N]
+//            [--constraints none|penalty|lagrange] [--mpc] [--summary-json FILE]
+//            [--trajectory-csv FILE] [--stats-csv FILE] [--quiet]
+//
+// NAME is an example's name: examples/NAME/NAME.yaml under $IDTO_SHARE_DIR, the source tree (for
+// programs run from the build tree) or <bin>/../share/idto (the install tree).
+//
+// The initial guess is the configuration's `problem.initial_guess` (default: a linear
+// interpolation from q_init to the last nominal configuration, quaternions slerped).
+//
+// Exit codes: 0 the solve finished (whatever its termination type: see the summary), 1 an error
+// (bad configuration file, invalid options, unwritable output), 2 bad command-line arguments,
+// 3 --mpc (not available yet).
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "idto/idto.hpp"
+#include "idto/parsers/config.hpp"
+#include "idto/solver/trajectory_optimizer.hpp"
+#include "idto_build_paths.hpp"
+#include "run/metrics.hpp"
+
+namespace {
+
+using idto::ConstraintMethod;
+using idto::ExampleConfig;
+using idto::IterationSummary;
+using idto::SolverSummary;
+using idto::Trajectory;
+
+constexpr int kExitOk = 0;
+constexpr int kExitError = 1;
+constexpr int kExitUsage = 2;
+constexpr int kExitMpcUnavailable = 3;
+
+const char kUsage[] =
+    "usage: idto-run CONFIG.yaml|NAME [options]\n"
+    "\n"
+    "Solves an example's trajectory optimization problem and reports the result.\n"
+    "NAME is an example name (e.g. pendulum, acrobot): examples/NAME/NAME.yaml in\n"
+    "$IDTO_SHARE_DIR, the source tree or <bin>/../share/idto.\n"
+    "\n"
+    "options:\n"
+    "  --max-iterations N                 override solver.max_iterations (N >= 0)\n"
+    "  --threads N                        override solver.num_threads (N >= 1)\n"
+    "  --constraints none|penalty|lagrange  override solver.constraint_method\n"
+    "  --mpc                              model predictive control (not available yet)\n"
+    "  --summary-json FILE                write the JSON summary to FILE\n"
+    "  --trajectory-csv FILE              write t, q, v, tau per time step to FILE\n"
+    "  --stats-csv FILE                   write the per-iteration statistics to FILE\n"
+    "  --quiet                            no iteration table\n"
+    "  -h, --help                         this message\n"
+    "\n"
+    "exit codes: 0 solved (any termination), 1 error, 2 bad arguments, 3 --mpc\n";
+
+struct Arguments {
+  std::string config;
+  std::optional<int> max_iterations;
+  std::optional<int> threads;
+  std::optional<ConstraintMethod> constraints;
+  bool mpc{false};
+  bool quiet{false};
+  bool help{false};
+  std::string summary_json;
+  std::string trajectory_csv;
+  std::string stats_csv;
+};
+
+/// Thrown for bad command-line arguments (exit code 2).
+struct UsageError {
+  std::string message;
+};
+
+bool ParseInt(const std::string& text, int* value) {
+  if (text.empty()) return false;
+  char* end = nullptr;
+  const long parsed = std::strtol(text.c_str(), &end, 10);
+  if (end != text.c_str() + text.size() || parsed < -1000000000L || parsed > 1000000000L) {
+    return false;
+  }
+  *value = static_cast<int>(parsed);
+  return true;
+}
+
+Arguments ParseArguments(int argc, char** argv) {
+  Arguments args;
+  std::vector<std::string> positional;
+  for (int i = 1; i < argc; ++i) {
+    std::string arg = argv[i];
+    std::string value;
+    bool has_inline_value = false;
+    if (arg.rfind("--", 0) == 0) {
+      const auto eq = arg.find('=');
+      if (eq != std::string::npos) {
+        value = arg.substr(eq + 1);
+        arg = arg.substr(0, eq);
+        has_inline_value = true;
+      }
+    }
+    const auto take_value = [&]() -> std::string {
+      if (has_inline_value) return value;
+      if (i + 1 >= argc) throw UsageError{arg + " needs a value"};
+      return argv[++i];
+    };
+    const auto take_int = [&](int min_value) {
+      const std::string text = take_value();
+      int n = 0;
+      if (!ParseInt(text, &n) || n < min_value) {
+        throw UsageError{arg + " is '" + text +
+                         "'; expected an integer >= " + std::to_string(min_value)};
+      }
+      return n;
+    };
+    const auto no_value = [&]() {
+      if (has_inline_value) throw UsageError{arg + " takes no value"};
+    };
+    if (arg == "-h" || arg == "--help") {
+      no_value();
+      args.help = true;
+    } else if (arg == "--max-iterations") {
+      args.max_iterations = take_int(0);
+    } else if (arg == "--threads") {
+      args.threads = take_int(1);
+    } else if (arg == "--constraints") {
+      const std::string text = take_value();
+      if (text == "none") {
+        args.constraints = ConstraintMethod::kNone;
+      } else if (text == "penalty") {
+        args.constraints = ConstraintMethod::kPenalty;
+      } else if (text == "lagrange") {
+        args.constraints = ConstraintMethod::kLagrangeMultipliers;
+      } else {
+        throw UsageError{"--constraints is '" + text + "'; expected none, penalty or lagrange"};
+      }
+    } else if (arg == "--mpc") {
+      no_value();
+      args.mpc = true;
+    } else if (arg == "--quiet") {
+      no_value();
+      args.quiet = true;
+    } else if (arg == "--summary-json") {
+      args.summary_json = take_value();
+    } else if (arg == "--trajectory-csv") {
+      args.trajectory_csv = take_value();
+    } else if (arg == "--stats-csv") {
+      args.stats_csv = take_value();
+    } else if (arg.size() > 1 && arg[0] == '-') {
+      throw UsageError{"unknown option " + arg};
+    } else {
+      positional.push_back(arg);
+    }
+  }
+  if (args.help) return args;
+  if (positional.empty()) throw UsageError{"missing CONFIG.yaml or example NAME"};
+  if (positional.size() > 1) throw UsageError{"unexpected argument " + positional[1]};
+  args.config = positional[0];
+  return args;
+}
+
+std::string ExecutablePath(const char* argv0) {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (!ec) return self.string();
+  return argv0 != nullptr ? std::string(argv0) : std::string();
+}
+
+std::string ConstraintMethodName(ConstraintMethod method) {
+  switch (method) {
+    case ConstraintMethod::kNone:
+      return "none";
+    case ConstraintMethod::kPenalty:
+      return "penalty";
+    case ConstraintMethod::kLagrangeMultipliers:
+      return "lagrange";
+  }
+  return "unknown";
+}
+
+std::string StepTypeName(idto::DoglegStep step) {
+  switch (step) {
+    case idto::DoglegStep::kNewton:
+      return "newton";
+    case idto::DoglegStep::kCauchy:
+      return "cauchy";
+    case idto::DoglegStep::kDogleg:
+      return "dogleg";
+    case idto::DoglegStep::kNone:
+      return "none";
+  }
+  return "unknown";
+}
+
+// ---------------------------------------------------------------------------- iteration table
+
+void PrintTableHeader(std::ostream& out) {
+  char line[256];
+  std::snprintf(line, sizeof(line), "%5s %13s %13s %10s %10s %10s %10s %4s %7s %10s %9s\n", "iter",
+                "cost", "merit", "|g|", "|p|", "radius", "rho", "acc", "step", "viol", "ms");
+  out << line;
+}
+
+void PrintTableRow(std::ostream& out, const IterationSummary& it) {
+  char line[256];
+  std::snprintf(line, sizeof(line),
+                "%5d %13.6e %13.6e %10.3e %10.3e %10.3e %10.3e %4s %7s %10.3e %9.3f\n",
+                it.iteration, it.cost, it.merit, it.gradient_norm, it.step_norm, it.trust_radius,
+                it.ratio, it.accepted ? "yes" : "no", StepTypeName(it.step_type).c_str(),
+                it.constraint_violation, 1e3 * it.time_total);
+  out << line;
+  out.flush();
+}
+
+// ---------------------------------------------------------------------------- JSON
+
+/// A minimal JSON writer: objects and arrays with commas handled, strings escaped, non-finite
+/// numbers written as null.
+class JsonWriter {
+ public:
+  std::string str() const { return out_.str(); }
+
+  void BeginObject() { Open('{'); }
+  void EndObject() { Close('}'); }
+  void BeginArray() { Open('['); }
+  void EndArray() { Close(']'); }
+  void Key(const std::string& key) {
+    Separate();
+    Indent();
+    out_ << Quote(key) << ": ";
+    after_key_ = true;
+  }
+  void String(const std::string& s) { Value(Quote(s)); }
+  void Number(double x) { Value(FormatNumber(x)); }
+  void Int(long long n) { Value(std::to_string(n)); }
+  void Bool(bool b) { Value(b ? "true" : "false"); }
+  void NumberArray(const std::vector<double>& xs) {
+    Separate();
+    if (!after_key_) Indent();
+    after_key_ = false;
+    out_ << '[';
+    for (std::size_t i = 0; i < xs.size(); ++i) out_ << (i ? ", " : "") << FormatNumber(xs[i]);
+    out_ << ']';
+    need_comma_ = true;
+  }
+  void NumberArray(const Eigen::VectorXd& x) {
+    NumberArray(std::vector<double>(x.data(), x.data() + x.size()));
+  }
+
+  static std::string Quote(const std::string& s) {
+    std::string out = "\"";
+    for (unsigned char c : s) {
+      switch (c) {
+        case '"':
+          out += "\\\"";
+          break;
+        case '\\':
+          out += "\\\\";
+          break;
+        case '\b':
+          out += "\\b";
+          break;
+        case '\f':
+          out += "\\f";
+          break;
+        case '\n':
+          out += "\\n";
+          break;
+        case '\r':
+          out += "\\r";
+          break;
+        case '\t':
+          out += "\\t";
+          break;
+        default:
+          if (c < 0x20) {
+            char buffer[8];
+            std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
+            out += buffer;
+          } else {
+            out += static_cast<char>(c);
+          }
+      }
+    }
+    return out + "\"";
+  }
+
+  static std::string FormatNumber(double x) {
+    if (!std::isfinite(x)) return "null";
+    // The shortest of %.15g, %.16g, %.17g that reads back exactly.
+    char buffer[32];
+    for (int digits = 15; digits <= 17; ++digits) {
+      std::snprintf(buffer, sizeof(buffer), "%.*g", digits, x);
+      if (std::strtod(buffer, nullptr) == x) break;
+    }
+    return buffer;
+  }
+
+ private:
+  void Open(char bracket) {
+    Separate();
+    if (!after_key_ && depth_ > 0) Indent();
+    after_key_ = false;
+    out_ << bracket;
+    ++depth_;
+    need_comma_ = false;
+    empty_ = true;
+  }
+  void Close(char bracket) {
+    --depth_;
+    if (!empty_) {
+      out_ << '\n';
+      Indent();
+    }
+    out_ << bracket;
+    need_comma_ = true;
+    empty_ = false;
+    if (depth_ == 0) out_ << '\n';
+  }
+  void Value(const std::string& text) {
+    Separate();
+    if (!after_key_) Indent();
+    after_key_ = false;
+    out_ << text;
+    need_comma_ = true;
+  }
+  void Separate() {
+    if (after_key_) return;
+    if (need_comma_) out_ << ',';
+    if (depth_ > 0) out_ << '\n';
+    need_comma_ = false;
+    empty_ = false;
+  }
+  void Indent() {
+    for (int i = 0; i < depth_; ++i) out_ << "  ";
+  }
+
+  std::ostringstream out_;
+  int depth_{0};
+  bool need_comma_{false};
+  bool after_key_{false};
+  bool empty_{true};
+};
+
+std::string MakeSummaryJson(const ExampleConfig& config, const std::string& config_path,
+                            const idto::SolverOptions& options, const SolverSummary& summary,
+                            const Trajectory& solution, const idto::examples::TaskResult& task) {
+  JsonWriter json;
+  json.BeginObject();
+  json.Key("example");
+  json.String(config.name);
+  json.Key("config_file");
+  json.String(config_path);
+  json.Key("termination");
+  json.String(idto::TerminationTypeName(summary.termination));
+  json.Key("message");
+  json.String(summary.message);
+  json.Key("iterations");
+  json.Int(summary.iterations);
+  json.Key("initial_cost");
+  json.Number(summary.initial_cost);
+  json.Key("final_cost");
+  json.Number(summary.final_cost);
+  json.Key("constraint_violation");
+  json.Number(summary.constraint_violation);
+  json.Key("solve_time_s");
+  json.Number(summary.solve_time);
+  json.Key("mean_iteration_time_s");
+  json.Number(summary.mean_iteration_time());
+  json.Key("constraint_method");
+  json.String(ConstraintMethodName(options.constraint_method));
+  json.Key("num_threads");
+  json.Int(options.num_threads);
+  json.Key("max_iterations");
+  json.Int(options.max_iterations);
+  json.Key("time_step");
+  json.Number(config.problem.time_step);
+  json.Key("num_steps");
+  json.Int(config.problem.num_steps);
+  json.Key("nq");
+  json.Int(config.model.nq());
+  json.Key("nv");
+  json.Int(config.model.nv());
+  json.Key("q_final");
+  json.NumberArray(solution.q.back());
+  json.Key("v_final");
+  json.NumberArray(solution.v.back());
+  json.Key("metrics");
+  json.BeginObject();
+  for (const idto::examples::Metric& metric : task.metrics) {
+    json.Key(metric.name);
+    if (metric.is_array || metric.values.size() != 1) {
+      json.NumberArray(metric.values);
+    } else {
+      json.Number(metric.values[0]);
+    }
+  }
+  json.EndObject();
+  json.Key("task_success");
+  json.Bool(task.task_success);
+  json.Key("task_success_criterion");
+  json.String(task.criterion);
+  json.Key("log");
+  json.BeginArray();
+  for (const IterationSummary& it : summary.log) {
+    json.BeginObject();
+    json.Key("iteration");
+    json.Int(it.iteration);
+    json.Key("cost");
+    json.Number(it.cost);
+    json.Key("merit");
+    json.Number(it.merit);
+    json.Key("gradient_norm");
+    json.Number(it.gradient_norm);
+    json.Key("step_norm");
+    json.Number(it.step_norm);
+    json.Key("scaled_step_norm");
+    json.Number(it.scaled_step_norm);
+    json.Key("trust_radius");
+    json.Number(it.trust_radius);
+    json.Key("ratio");
+    json.Number(it.ratio);
+    json.Key("accepted");
+    json.Bool(it.accepted);
+    json.Key("step_type");
+    json.String(StepTypeName(it.step_type));
+    json.Key("constraint_violation");
+    json.Number(it.constraint_violation);
+    json.Key("trial_cost");
+    json.Number(it.trial_cost);
+    json.Key("time_s");
+    json.Number(it.time_total);
+    json.Key("time_derivatives_s");
+    json.Number(it.time_derivatives);
+    json.Key("time_cost_s");
+    json.Number(it.time_cost);
+    json.Key("time_hessian_s");
+    json.Number(it.time_hessian);
+    json.Key("time_factorization_s");
+    json.Number(it.time_factorization);
+    json.Key("time_multipliers_s");
+    json.Number(it.time_multipliers);
+    json.EndObject();
+  }
+  json.EndArray();
+  json.EndObject();
+  return json.str();
+}
+
+// ---------------------------------------------------------------------------- CSV
+
+/// Labels of the coordinates of q ("pos") or v ("vel"): the joint name for 1-DoF joints,
+/// joint.qw, joint.x, ... for floating joints and joint.x, joint.y, joint.theta for planar ones.
+std::vector<std::string> CoordinateLabels(const idto::Model& model, bool positions) {
+  std::vector<std::string> labels;
+  for (idto::JointIndex j = 1; j <= model.num_joints(); ++j) {
+    const int n = positions ? model.joint_nq(j) : model.joint_nv(j);
+    if (n == 0) continue;
+    const std::string& name = model.joint_name(j);
+    if (n == 1) {
+      labels.push_back(name);
+      continue;
+    }
+    std::vector<std::string> parts;
+    if (model.joint_type(j) == idto::JointType::kFloating) {
+      parts = positions ? std::vector<std::string>{"qw", "qx", "qy", "qz", "x", "y", "z"}
+                        : std::vector<std::string>{"wx", "wy", "wz", "vx", "vy", "vz"};
+    } else if (model.joint_type(j) == idto::JointType::kPlanar) {
+      parts = {"x", "y", "theta"};
+    }
+    for (int i = 0; i < n; ++i) {
+      labels.push_back(name + "." +
+                       (i < static_cast<int>(parts.size()) ? parts[i] : std::to_string(i)));
+    }
+  }
+  return labels;
+}
+
+std::string MakeTrajectoryCsv(const ExampleConfig& config, const Trajectory& solution) {
+  const idto::Model& model = config.model;
+  std::ostringstream out;
+  out << "t";
+  for (const std::string& label : CoordinateLabels(model, true)) out << ",q:" << label;
+  const std::vector<std::string> velocity_labels = CoordinateLabels(model, false);
+  for (const std::string& label : velocity_labels) out << ",v:" << label;
+  for (const std::string& label : velocity_labels) out << ",tau:" << label;
+  out << "\n";
+  const auto write = [&out](double x) { out << ',' << JsonWriter::FormatNumber(x); };
+  for (std::size_t k = 0; k < solution.q.size(); ++k) {
+    out << JsonWriter::FormatNumber(static_cast<double>(k) * config.problem.time_step);
+    for (int i = 0; i < model.nq(); ++i) write(solution.q[k](i));
+    for (int i = 0; i < model.nv(); ++i) write(k < solution.v.size() ? solution.v[k](i) : 0.0);
+    for (int i = 0; i < model.nv(); ++i) {
+      write(k < solution.tau.size() && solution.tau[k].size() == model.nv() ? solution.tau[k](i)
+                                                                            : 0.0);
+    }
+    out << "\n";
+  }
+  return out.str();
+}
+
+void WriteFile(const std::string& path, const std::string& text, const char* what) {
+  std::ofstream out(path);
+  if (out) out << text;
+  if (!out) {
+    throw idto::FileError(path, "", path + ": cannot write the " + std::string(what));
+  }
+}
+
+std::string FormatVector(const Eigen::VectorXd& x) {
+  std::ostringstream out;
+  out << "[";
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    out << (i ? ", " : "") << JsonWriter::FormatNumber(x(i));
+  }
+  out << "]";
+  return out.str();
+}
+
+int Run(const Arguments& args, const char* argv0) {
+  std::vector<std::string> share_dirs =
+      idto::DefaultShareDirs(IDTO_SOURCE_SHARE_DIR, ExecutablePath(argv0));
+  share_dirs.push_back(IDTO_INSTALL_SHARE_DIR);
+  const std::string config_path = idto::FindExampleConfig(args.config, share_dirs);
+  ExampleConfig config = idto::LoadExampleConfig(config_path, share_dirs);
+
+  idto::SolverOptions options = config.solver;
+  if (args.max_iterations) options.max_iterations = *args.max_iterations;
+  if (args.threads) options.num_threads = *args.threads;
+  if (args.constraints) options.constraint_method = *args.constraints;
+  options.verbosity = 0;  // the table below replaces the solver's own printing
+  std::string why;
+  if (!options.IsValid(&why)) {
+    throw idto::InvalidArgument("idto-run: invalid solver options: " + why);
+  }
+
+  // Fail before solving when an output file cannot be written.
+  for (const std::string& file : {args.summary_json, args.trajectory_csv, args.stats_csv}) {
+    if (!file.empty()) WriteFile(file, "", "output file");
+  }
+
+  const idto::ProblemDefinition& problem = config.problem;
+  std::cout << "idto-run " << IDTO_VERSION_STRING << ": " << config.name << " (" << config_path
+            << ")\n";
+  if (!config.description.empty()) std::cout << "  " << config.description << "\n";
+  std::cout << "  model '" << config.model.name() << "': nq = " << config.model.nq()
+            << ", nv = " << config.model.nv() << "; N = " << problem.num_steps
+            << ", dt = " << problem.time_step
+            << " s, horizon = " << problem.num_steps * problem.time_step << " s\n"
+            << "  constraints: " << ConstraintMethodName(options.constraint_method)
+            << ", threads: " << options.num_threads
+            << ", max iterations: " << options.max_iterations
+            << ", initial guess: " << idto::InitialGuessTypeName(config.initial_guess) << "\n";
+
+  idto::TrajectoryOptimizer optimizer(config.model, problem, options);
+  if (!args.quiet) {
+    PrintTableHeader(std::cout);
+    optimizer.AddCallback([](const IterationSummary& it) {
+      PrintTableRow(std::cout, it);
+      return idto::CallbackReturn::kContinue;
+    });
+  }
+  const std::vector<Eigen::VectorXd> guess = idto::MakeInitialGuess(config);
+  Trajectory solution;
+  const SolverSummary summary = optimizer.Solve(guess, &solution);
+  const idto::examples::TaskResult task = idto::examples::EvaluateTask(config, solution);
+
+  std::cout << summary.BriefReport() << "\n";
+  std::cout << "result:\n";
+  std::cout << "  termination: " << idto::TerminationTypeName(summary.termination);
+  if (!summary.message.empty()) std::cout << " (" << summary.message << ")";
+  std::cout << "\n  iterations: " << summary.iterations << "\n"
+            << "  cost: " << JsonWriter::FormatNumber(summary.initial_cost) << " -> "
+            << JsonWriter::FormatNumber(summary.final_cost) << "\n"
+            << "  constraint violation: " << JsonWriter::FormatNumber(summary.constraint_violation)
+            << "\n"
+            << "  solve time: " << summary.solve_time << " s (mean "
+            << 1e3 * summary.mean_iteration_time() << " ms per iteration)\n"
+            << "  q_N: " << FormatVector(solution.q.back()) << "\n";
+  for (const idto::examples::Metric& metric : task.metrics) {
+    std::cout << "  " << metric.name << ": ";
+    if (metric.is_array || metric.values.size() != 1) {
+      std::cout << FormatVector(Eigen::Map<const Eigen::VectorXd>(
+          metric.values.data(), static_cast<Eigen::Index>(metric.values.size())));
+    } else {
+      std::cout << JsonWriter::FormatNumber(metric.values[0]);
+    }
+    std::cout << "\n";
+  }
+  std::cout << "  task_success: " << (task.task_success ? "true" : "false") << " ("
+            << task.criterion << ")\n";
+
+  if (!args.summary_json.empty()) {
+    WriteFile(args.summary_json,
+              MakeSummaryJson(config, config_path, options, summary, solution, task),
+              "JSON summary");
+    std::cout << "wrote " << args.summary_json << "\n";
+  }
+  if (!args.trajectory_csv.empty()) {
+    WriteFile(args.trajectory_csv, MakeTrajectoryCsv(config, solution), "trajectory CSV");
+    std::cout << "wrote " << args.trajectory_csv << "\n";
+  }
+  if (!args.stats_csv.empty()) {
+    WriteFile(args.stats_csv, summary.ToCsv(), "stats CSV");
+    std::cout << "wrote " << args.stats_csv << "\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Arguments args;
+  try {
+    args = ParseArguments(argc, argv);
+  } catch (const UsageError& e) {
+    std::cerr << "idto-run: " << e.message << "\n\n" << kUsage;
+    return kExitUsage;
+  }
+  if (args.help) {
+    std::cout << kUsage;
+    return kExitOk;
+  }
+  if (args.mpc) {
+    std::cerr << "idto-run: MPC mode is not available yet\n";
+    return kExitMpcUnavailable;
+  }
+  try {
+    return Run(args, argc > 0 ? argv[0] : nullptr);
+  } catch (const std::exception& e) {
+    std::cerr << "idto-run: error: " << e.what() << "\n";
+    return kExitError;
+  }
+}

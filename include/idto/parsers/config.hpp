@@ -1,0 +1,119 @@
+#pragma once
+
+/// @file
+/// Example configurations: one YAML file describing a scene (URDF models, extra world geometry,
+/// gravity, contact), a trajectory optimization problem and solver options (design.md §8). Every
+/// key is documented in docs/config.md. yaml-cpp is used only in src/.
+///
+/// Layout of a file (top-level keys; `scene` and `problem` are required):
+/// @code{.yaml}
+/// name: pendulum            # default: the file name without .yaml
+/// description: "..."        # free text
+/// task_success: "..."       # free text: the example's success criterion
+/// scene:   {models: [...], geometry: [...], gravity: [0, 0, -9.81], enable_contact: true,
+///           contact: {...}}
+/// problem: {time_step: 0.05, horizon: 2.0, q_init: ..., v_init: ..., nominal: {...},
+///           weights: {Qq: ..., Qv: ..., R: ..., Qfq: ..., Qfv: ...}, unactuated_dofs: [...],
+///           initial_guess: interpolate}
+/// solver:  {max_iterations: 100, constraint_method: lagrange, ...}   # SolverOptions fields
+/// mpc:     {...}            # reserved: checked to be a map, kept as text (ExampleConfig::mpc)
+/// @endcode
+///
+/// Errors are FileError whose message names the file, the key path (for example
+/// "problem.weights.Qq.elbow"), the value found and what was expected, and the line in the file
+/// when known: "pendulum.yaml: problem.time_step: is -0.05; expected a finite positive number
+/// (line 12)". Unknown keys, duplicate keys, wrong sizes, wrong types, non-finite numbers,
+/// negative weights, non-positive time steps, unknown joint/body/geometry names and unreadable
+/// URDF files are errors.
+///
+/// Numbers may be written as YAML numbers or with pi: "pi", "-pi/2", "2*pi", "0.5*pi/3".
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "idto/multibody/model.hpp"
+#include "idto/parsers/urdf.hpp"
+#include "idto/problem/problem_definition.hpp"
+#include "idto/solver/solver_options.hpp"
+
+namespace idto {
+
+/// How idto-run (and MakeInitialGuess) builds the first iterate q_0..q_N.
+enum class InitialGuessType {
+  kInterpolate,  ///< linear from q_init (k = 0) to the last nominal configuration (k = N);
+                 ///< quaternions slerped (the default)
+  kConstant,     ///< q_init at every step
+  kNominal       ///< the nominal trajectory, with q_0 = q_init
+};
+
+/// "interpolate", "constant" or "nominal".
+std::string InitialGuessTypeName(InitialGuessType type);
+
+/// One URDF model of a scene, as the file gave it.
+struct SceneModelConfig {
+  std::string urdf_file;  ///< resolved path of the URDF file
+  UrdfOptions options;    ///< base type, pose, planar normal, prefix
+};
+
+/// Everything a configuration file describes.
+struct ExampleConfig {
+  std::string name;          ///< `name`, or the file name without its extension
+  std::string source_file;   ///< the YAML file (or source name) it was loaded from
+  std::string description;   ///< `description` (free text, may be empty)
+  std::string task_success;  ///< `task_success`: the success criterion in words (may be empty)
+
+  std::vector<SceneModelConfig> models;  ///< the scene's URDF models, in order
+  Model model;                           ///< the scene as one Model
+  ProblemDefinition problem;             ///< validated against `model`
+  SolverOptions solver;                  ///< valid (SolverOptions::IsValid)
+  InitialGuessType initial_guess{InitialGuessType::kInterpolate};
+
+  /// The `mpc` section, reserved for model predictive control options: checked to be a map and
+  /// kept here as YAML text (empty when absent). Its keys are not interpreted yet.
+  std::string mpc;
+};
+
+/// Loads and checks a configuration file. URDF paths in `scene.models[i].urdf` are resolved, in
+/// order: absolute paths as given; relative to the YAML file's folder; then `<dir>/models/<path>`
+/// and `<dir>/<path>` for each dir in `share_dirs`, and finally for the folder two levels above
+/// the YAML file (examples/<name>/<name>.yaml sits two levels below the share folder).
+/// Throws FileError (see the file comment) on any problem.
+ExampleConfig LoadExampleConfig(const std::string& path,
+                                const std::vector<std::string>& share_dirs = {});
+
+/// As LoadExampleConfig, from YAML text. `source_name` stands for the file in messages and
+/// `base_dir` for the YAML file's folder when resolving URDF paths.
+ExampleConfig LoadExampleConfigString(const std::string& yaml_text, const std::string& source_name,
+                                      const std::string& base_dir = ".",
+                                      const std::vector<std::string>& share_dirs = {});
+
+/// Resolves an example name or a file path to a configuration file. Returns `name_or_path`
+/// itself when it names an existing file; otherwise, when it looks like a name (no '/' and no
+/// ".yaml"/".yml" suffix), the first existing `<dir>/examples/<name>/<name>.yaml` over
+/// `search_dirs`, in order. Throws FileError listing the places searched and the examples
+/// found there when nothing matches.
+std::string FindExampleConfig(const std::string& name_or_path,
+                              const std::vector<std::string>& search_dirs);
+
+/// Names of the examples found as `<dir>/examples/<name>/<name>.yaml` over `search_dirs`
+/// (sorted, unique).
+std::vector<std::string> ListExamples(const std::vector<std::string>& search_dirs);
+
+/// The usual share folders of a program, in search order: $IDTO_SHARE_DIR when set,
+/// `build_tree_dir` when non-empty (the source tree, for programs run from the build tree), and
+/// `<folder of executable_path>/../share/idto` (the install tree) when `executable_path` is
+/// non-empty. Folders that do not exist are kept (searching skips them).
+std::vector<std::string> DefaultShareDirs(const std::string& build_tree_dir,
+                                          const std::string& executable_path);
+
+/// The first iterate q_0..q_N (N + 1 configurations, nq each) for `config.initial_guess`.
+std::vector<Eigen::VectorXd> MakeInitialGuess(const ExampleConfig& config);
+
+/// Interpolates configurations of `model`: (1 - s) q_a + s q_b for every coordinate except the
+/// quaternions of floating joints, which are slerped (shortest arc, normalized). s in [0, 1].
+Eigen::VectorXd InterpolateConfiguration(const Model& model, const Eigen::VectorXd& q_a,
+                                         const Eigen::VectorXd& q_b, double s);
+
+}  // namespace idto
