@@ -22,6 +22,9 @@ namespace idto {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+// Smallest trust radius (scaled coordinates); reaching it means no progress is possible.
+constexpr double kMinTrustRadius = 1e-12;
 double Seconds(Clock::time_point a, Clock::time_point b) {
   return std::chrono::duration<double>(b - a).count();
 }
@@ -604,14 +607,25 @@ class TrajectoryOptimizer::Impl {
         s.time_total = Seconds(t0, Clock::now());
         summary.log.push_back(s);
         ++summary.iterations;
-        if (!options_.fixed_iterations && step_ratio < options_.step_tolerance &&
-            s.step_norm > 0.0) {
-          summary.termination = TerminationType::kConverged;
-          summary.message = "relative step below step_tolerance (rejected step)";
-        }
-        if (!(trust_radius_ > 1e-300)) {
+        // Near a stationary point the predicted reduction sinks to round-off and steps are
+        // rejected for noise: that is convergence, not failure. The radius is floored so a
+        // warm-started solve (MPC) can move again when its problem changes.
+        const bool negligible =
+            !(std::abs(predicted) > 1e-14 * std::max(1.0, std::abs(merit)));
+        const bool at_floor = trust_radius_ < kMinTrustRadius;
+        if (at_floor) trust_radius_ = kMinTrustRadius;
+        if (!std::isfinite(trial_merit) && at_floor) {
           summary.termination = TerminationType::kFailure;
-          summary.message = "the trust region collapsed; last good iterate kept";
+          summary.message =
+              "the cost is not finite even for the smallest trust region; last good iterate kept";
+        } else if (!options_.fixed_iterations) {
+          if (step_ratio < options_.step_tolerance && s.step_norm > 0.0) {
+            summary.termination = TerminationType::kConverged;
+            summary.message = "relative step below step_tolerance (rejected step)";
+          } else if (negligible || at_floor) {
+            summary.termination = TerminationType::kConverged;
+            summary.message = "no reduction predicted above round-off (stationary point)";
+          }
         }
       }
       if (options_.verbosity > 0) {

@@ -499,3 +499,44 @@ TEST(Solver, SummaryReportsAndCsv) {
 
 }  // namespace
 }  // namespace idto
+
+namespace idto {
+namespace {
+
+TEST(Solver, StationaryPointsConvergeAndWarmStartsKeepWorking) {
+  // Solve to the optimum, then keep iterating from it: rejected steps at round-off level are
+  // convergence (not failure), and fixed-iteration warm starts never fail there.
+  const Model model = Pendulum();
+  ProblemDefinition p = ProblemDefinition::MakeDefault(model, 0.05, 10);
+  p.Qq.setConstant(0.1);
+  p.Qv.setConstant(0.1);
+  p.R.setConstant(0.01);
+  p.Qfq.setConstant(10.0);
+  p.SetConstantNominal(Eigen::VectorXd::Constant(1, 1.0), Eigen::VectorXd::Zero(1));
+  SolverOptions o;
+  o.max_iterations = 500;
+  o.cost_tolerance = 0.0;
+  o.gradient_tolerance = 0.0;
+  o.step_tolerance = 0.0;
+  TrajectoryOptimizer opt(model, p, o);
+  Trajectory sol;
+  const SolverSummary s = opt.Solve(std::vector<Eigen::VectorXd>(11, p.q_init), &sol);
+  EXPECT_EQ(s.termination, TerminationType::kConverged) << s.message;
+  EXPECT_LT(s.iterations, 500);
+  opt.mutable_options().fixed_iterations = true;
+  opt.mutable_options().max_iterations = 50;
+  const SolverSummary w = opt.SolveWarmStart(&sol);
+  EXPECT_EQ(w.termination, TerminationType::kMaxIterations) << w.message;
+  EXPECT_GE(opt.trust_radius(), 1e-12);
+  // A new initial condition: the warm-started solver moves again.
+  opt.ResetInitialConditions(Eigen::VectorXd::Constant(1, 0.2), Eigen::VectorXd::Zero(1));
+  opt.mutable_options().fixed_iterations = false;
+  opt.mutable_options().cost_tolerance = 1e-12;
+  opt.mutable_options().max_iterations = 500;
+  const SolverSummary r = opt.SolveWarmStart(&sol);
+  EXPECT_NE(r.termination, TerminationType::kFailure) << r.message;
+  EXPECT_LT(r.final_cost, r.initial_cost);
+}
+
+}  // namespace
+}  // namespace idto
