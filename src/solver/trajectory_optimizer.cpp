@@ -178,7 +178,7 @@ class TrajectoryOptimizer::Impl {
     if (engine_) {
       ForwardKinematics(model_, q, v, &ws->data);
       engine_->Evaluate(model_, ws->data, &ws->contact);
-      *tau = InverseDynamics(model_, q, v, a, ws->contact.F_ext, &ws->data);
+      *tau = InverseDynamicsAfterKinematics(model_, v, a, &ws->contact.F_ext, &ws->data);
     } else {
       *tau = InverseDynamics(model_, q, v, a, &ws->data);
     }

@@ -262,3 +262,27 @@ TEST(Dynamics, GeneralizedForceFromBodyForcesIsTheRneaExternalForceTerm) {
 
 }  // namespace
 }  // namespace idto
+
+namespace idto {
+namespace {
+
+TEST(Dynamics, InverseDynamicsAfterKinematicsEqualsInverseDynamics) {
+  test::Random rng(14);
+  for (const auto& [name, model] : TestModels()) {
+    SCOPED_TRACE(name);
+    Data data(model), fresh(model);
+    const Eigen::VectorXd q = test::RandomConfiguration(model, &rng);
+    const Eigen::VectorXd v = rng.Vector(model.nv());
+    const Eigen::VectorXd a = rng.Vector(model.nv());
+    const BodyForces F = rng.Matrix(6, model.num_bodies());
+    ForwardKinematics(model, q, v, &data);
+    const Eigen::VectorXd tau = InverseDynamicsAfterKinematics(model, v, a, nullptr, &data);
+    EXPECT_EIGEN_NEAR_REL(tau, InverseDynamics(model, q, v, a, &fresh), 1e-14);
+    ForwardKinematics(model, q, v, &data);
+    const Eigen::VectorXd tauF = InverseDynamicsAfterKinematics(model, v, a, &F, &data);
+    EXPECT_EIGEN_NEAR_REL(tauF, InverseDynamics(model, q, v, a, F, &fresh), 1e-14);
+  }
+}
+
+}  // namespace
+}  // namespace idto

@@ -10,26 +10,30 @@ namespace {
 // Recursive Newton-Euler in body coordinates. With a == nullptr the accelerations are zero
 // (bias term). With F_ext != nullptr, world poses are accumulated to bring the external forces
 // into body coordinates.
+// With kinematics_done, the joint poses, body velocities and world poses of a preceding
+// ForwardKinematics(q, v) are reused (q is not read).
 void Rnea(const Model& model, const double* q, const double* v, const double* a,
-          const BodyForces* F_ext, Data* data) {
+          const BodyForces* F_ext, Data* data, bool kinematics_done = false) {
   const std::vector<BodyIndex>& moving = model.moving_bodies();
   const SpatialMotion a_world(Eigen::Vector3d::Zero(), -model.gravity());
-  const bool with_world = F_ext != nullptr;
+  const bool with_world = F_ext != nullptr && !kinematics_done;
   data->X_WB_[0] = RigidTransform::Identity();
   for (BodyIndex b : moving) {
     const BodyIndex p = model.moving_parent(b);
     const int iv = model.velocity_start(b);
     RigidTransform& X_pi = data->X_pi_[b];
     Eigen::Matrix3d& R_JB = data->R_JB_[b];
-    internal::CalcJointPose(model, b, q + model.position_start(b), &X_pi, &R_JB);
+    if (!kinematics_done) {
+      internal::CalcJointPose(model, b, q + model.position_start(b), &X_pi, &R_JB);
+    }
     const SpatialMotion vJ = internal::JointMotion(model, b, R_JB, v + iv);
     SpatialMotion& vi = data->vel_[b];
     SpatialMotion& ai = data->acc_[b];
     if (p == kWorldBody) {
-      vi = vJ;
+      if (!kinematics_done) vi = vJ;
       ai = X_pi.InverseActOn(a_world);
     } else {
-      vi = X_pi.InverseActOn(data->vel_[p]) + vJ;
+      if (!kinematics_done) vi = X_pi.InverseActOn(data->vel_[p]) + vJ;
       ai = X_pi.InverseActOn(data->acc_[p]) + Cross(vi, vJ);
     }
     if (a != nullptr) ai += internal::JointMotion(model, b, R_JB, a + iv);
@@ -40,7 +44,7 @@ void Rnea(const Model& model, const double* q, const double* v, const double* a,
     data->force_[b] = I * ai + CrossForce(vi, I * vi);
     if (with_world) data->X_WB_[b] = data->X_WB_[p] * X_pi;
   }
-  if (with_world) {
+  if (F_ext != nullptr) {
     for (BodyIndex b = 1; b < model.num_bodies(); ++b) {
       const BodyIndex mb = model.mobilized_body(b);
       if (mb == kWorldBody) continue;
@@ -93,6 +97,20 @@ const Eigen::VectorXd& InverseDynamics(const Model& model,
               "model.num_bodies()");
   }
   Rnea(model, q.data(), v.data(), a.data(), &F_ext, data);
+  return data->tau;
+}
+
+const Eigen::VectorXd& InverseDynamicsAfterKinematics(const Model& model,
+                                                      const Eigen::Ref<const Eigen::VectorXd>& v,
+                                                      const Eigen::Ref<const Eigen::VectorXd>& a,
+                                                      const BodyForces* F_ext, Data* data) {
+  model.CheckVelocity("InverseDynamicsAfterKinematics", "v", v);
+  model.CheckVelocity("InverseDynamicsAfterKinematics", "a", a);
+  if (F_ext != nullptr && F_ext->cols() != model.num_bodies()) {
+    CheckSize("InverseDynamicsAfterKinematics", "F_ext->cols()", F_ext->cols(),
+              model.num_bodies(), "model.num_bodies()");
+  }
+  Rnea(model, nullptr, v.data(), a.data(), F_ext, data, /*kinematics_done=*/true);
   return data->tau;
 }
 

@@ -29,6 +29,15 @@ const Eigen::VectorXd& InverseDynamics(const Model& model,
                                        const Eigen::Ref<const Eigen::VectorXd>& a,
                                        const BodyForces& F_ext, Data* data);
 
+/// As InverseDynamics(q, v, a[, F_ext]) for the q and v of the preceding
+/// ForwardKinematics(q, v, data) call, whose joint poses, velocities and world poses it reuses
+/// (about 40% of the work). F_ext may be null. The caller guarantees that data holds
+/// ForwardKinematics(q, v) for this v. Returns data->tau.
+const Eigen::VectorXd& InverseDynamicsAfterKinematics(const Model& model,
+                                                      const Eigen::Ref<const Eigen::VectorXd>& v,
+                                                      const Eigen::Ref<const Eigen::VectorXd>& a,
+                                                      const BodyForces* F_ext, Data* data);
+
 /// Bias term C(q, v) v - tau_g(q) + D v = InverseDynamics(q, v, 0). Returns data->tau.
 const Eigen::VectorXd& BiasTerm(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                                 const Eigen::Ref<const Eigen::VectorXd>& v, Data* data);
