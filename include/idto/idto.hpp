@@ -34,6 +34,10 @@
 #include "idto/solver/solver_options.hpp"
 #include "idto/solver/solver_summary.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
+// mpc
+#include "idto/mpc/controller.hpp"
+#include "idto/mpc/pd_controller.hpp"
+#include "idto/mpc/spline.hpp"
 // sim
 #include "idto/sim/mjcf.hpp"
 // example configuration files (YAML): builds models, problems and solver options

@@ -1,0 +1,99 @@
+#pragma once
+
+/// @file
+/// Contact-implicit MPC by real-time iteration (paper §6.4): at each control step, shift the
+/// previous plan to the current time, reset the initial condition to the measured state,
+/// optionally shift the nominal trajectory, run a few solver iterations from the warm start,
+/// and publish the new plan; a PD+ controller tracks it between re-plans.
+
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "idto/mpc/pd_controller.hpp"
+#include "idto/mpc/spline.hpp"
+#include "idto/multibody/model.hpp"
+#include "idto/problem/problem_definition.hpp"
+#include "idto/solver/solver_options.hpp"
+#include "idto/solver/solver_summary.hpp"
+#include "idto/solver/trajectory_optimizer.hpp"
+
+namespace idto::mpc {
+
+/// Options of the real-time-iteration controller.
+struct MpcOptions {
+  double control_rate{100.0};   ///< Hz: a new plan every 1 / control_rate seconds
+  int iterations_per_step{1};   ///< solver iterations per re-plan (paper: 1)
+  /// Position coordinates whose nominal moves with the robot: at each re-plan,
+  /// qbar_k(j) = q_measured(j) + (qbar0_k(j) - q_init0(j)), i.e. the original offsets from the
+  /// initial condition are kept (the spinner's target stays 2 rad ahead; a walking robot's
+  /// target stays ahead of its base).
+  std::vector<int> relative_positions;
+  PdGains gains;                ///< nv each; zero gives pure feed-forward
+  /// Actuated velocity indices for the PD+ controller (default: all but the problem's
+  /// unactuated DoFs).
+  std::vector<int> actuated;
+  void Validate(const Model& model) const;
+};
+
+/// A plan: knots at times t_0 + k dt (k = 0..N) and C² splines through them.
+struct Plan {
+  double start_time{0.0};
+  double time_step{0.0};
+  std::vector<Eigen::VectorXd> q, v, tau;  ///< N + 1 knots each (tau_N = tau_{N-1})
+  CubicSpline q_spline, v_spline, tau_spline;
+  /// q_d, v_d, u_ff at time t (quaternions normalized). Outputs are resized.
+  void Sample(const Model& model, double t, Eigen::VectorXd* q_d, Eigen::VectorXd* v_d,
+              Eigen::VectorXd* u_ff) const;
+};
+
+/// The controller. Owns a TrajectoryOptimizer; not thread-safe itself.
+class Controller {
+ public:
+  /// `problem` holds the horizon, weights and the nominal trajectory relative to its q_init
+  /// (the controller's time 0). `solver` options are used as given except that every re-plan
+  /// runs exactly options.iterations_per_step iterations.
+  Controller(const Model& model, const ProblemDefinition& problem, const SolverOptions& solver,
+             const MpcOptions& options);
+  ~Controller();
+
+  /// Plans from the initial state with `initial_iterations` iterations (a cold start) at t = 0.
+  SolverSummary Initialize(const std::vector<Eigen::VectorXd>& q_guess, int initial_iterations);
+
+  /// Re-plans at time t from the measured state (q_hat: nq, v_hat: nv). When the solve fails
+  /// or produces a non-finite plan, the previous plan is kept and the summary says so
+  /// (termination kFailure).
+  SolverSummary Replan(double t, const Eigen::VectorXd& q_hat, const Eigen::VectorXd& v_hat);
+
+  /// PD+ command at time t for the measured state, from the latest plan.
+  void Control(double t, const Eigen::VectorXd& q_hat, const Eigen::VectorXd& v_hat,
+               Eigen::VectorXd* u);
+
+  const Plan& plan() const { return plan_; }
+  const MpcOptions& options() const { return options_; }
+  TrajectoryOptimizer& optimizer() { return *optimizer_; }
+  /// The warm start of the last Replan (the previous plan resampled at the new knot times,
+  /// first knot = the measured state), before the solver iterated on it.
+  const std::vector<Eigen::VectorXd>& last_warm_start() const { return q_warm_; }
+  /// Number of re-plans whose result was rejected (non-finite or failed) so far.
+  int num_rejected_plans() const { return num_rejected_; }
+
+ private:
+  void Publish(double t, const Trajectory& solution);
+
+  Model model_;
+  ProblemDefinition problem_;
+  MpcOptions options_;
+  std::unique_ptr<TrajectoryOptimizer> optimizer_;
+  std::unique_ptr<PdController> pd_;
+  Plan plan_;
+  int num_rejected_{0};
+  // Scratch.
+  std::vector<Eigen::VectorXd> q_shift_, q_warm_, q_nom_;
+  std::vector<double> knot_times_;
+  Eigen::VectorXd q_d_, v_d_, u_ff_;
+  Trajectory solution_;
+};
+
+}  // namespace idto::mpc

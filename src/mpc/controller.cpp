@@ -1,0 +1,141 @@
+#include "idto/mpc/controller.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "idto/core/errors.hpp"
+#include "idto/multibody/algorithms/kinematics.hpp"
+
+namespace idto::mpc {
+
+void MpcOptions::Validate(const Model& model) const {
+  static constexpr const char* kWhere = "MpcOptions";
+  CheckPositive(kWhere, "control_rate", control_rate);
+  if (iterations_per_step < 1) {
+    ThrowInvalidArgument(kWhere, "iterations_per_step", std::to_string(iterations_per_step),
+                         "at least 1");
+  }
+  for (size_t k = 0; k < relative_positions.size(); ++k) {
+    const int j = relative_positions[k];
+    if (j < 0 || j >= model.nq()) {
+      ThrowInvalidArgument(kWhere, "relative_positions[" + std::to_string(k) + "]",
+                           std::to_string(j),
+                           "a position index in [0, " + std::to_string(model.nq()) + ")");
+    }
+  }
+}
+
+void Plan::Sample(const Model& model, double t, Eigen::VectorXd* q_d, Eigen::VectorXd* v_d,
+                  Eigen::VectorXd* u_ff) const {
+  if (q_d != nullptr) {
+    q_spline.Evaluate(t, q_d);
+    NormalizeQuaternions(model, q_d);
+  }
+  if (v_d != nullptr) v_spline.Evaluate(t, v_d);
+  if (u_ff != nullptr) tau_spline.Evaluate(t, u_ff);
+}
+
+Controller::Controller(const Model& model, const ProblemDefinition& problem,
+                       const SolverOptions& solver, const MpcOptions& options)
+    : model_(model), problem_(problem), options_(options) {
+  problem_.Validate(model_);
+  options_.Validate(model_);
+  if (options_.actuated.empty()) {
+    const std::vector<int> unactuated = problem_.UnactuatedDofs(model_);
+    for (int i = 0; i < model_.nv(); ++i) {
+      if (!std::binary_search(unactuated.begin(), unactuated.end(), i)) {
+        options_.actuated.push_back(i);
+      }
+    }
+  }
+  PdGains gains = options_.gains;
+  if (gains.Kp.size() == 0) gains.Kp = Eigen::VectorXd::Zero(model_.nv());
+  if (gains.Kd.size() == 0) gains.Kd = Eigen::VectorXd::Zero(model_.nv());
+  pd_ = std::make_unique<PdController>(model_, options_.actuated, gains);
+  SolverOptions s = solver;
+  s.max_iterations = options_.iterations_per_step;
+  s.fixed_iterations = true;
+  optimizer_ = std::make_unique<TrajectoryOptimizer>(model_, problem_, s);
+  const int N = problem_.num_steps;
+  q_shift_.assign(N + 1, problem_.q_init);
+  q_nom_ = problem_.q_nom;
+  knot_times_.resize(N + 1);
+}
+
+Controller::~Controller() = default;
+
+void Controller::Publish(double t, const Trajectory& solution) {
+  const int N = problem_.num_steps;
+  const double dt = problem_.time_step;
+  plan_.start_time = t;
+  plan_.time_step = dt;
+  plan_.q = solution.q;
+  plan_.v = solution.v;
+  plan_.tau = solution.tau;
+  plan_.tau[N] = plan_.tau[N - 1];  // hold the last force over the final interval
+  for (int k = 0; k <= N; ++k) knot_times_[k] = t + k * dt;
+  plan_.q_spline.Fit(knot_times_, plan_.q);
+  plan_.v_spline.Fit(knot_times_, plan_.v);
+  plan_.tau_spline.Fit(knot_times_, plan_.tau);
+}
+
+SolverSummary Controller::Initialize(const std::vector<Eigen::VectorXd>& q_guess,
+                                     int initial_iterations) {
+  SolverOptions& o = optimizer_->mutable_options();
+  const int per_step = o.max_iterations;
+  o.max_iterations = std::max(initial_iterations, 1);
+  const SolverSummary summary = optimizer_->Solve(q_guess, &solution_);
+  o.max_iterations = per_step;
+  Publish(0.0, solution_);
+  return summary;
+}
+
+SolverSummary Controller::Replan(double t, const Eigen::VectorXd& q_hat,
+                                 const Eigen::VectorXd& v_hat) {
+  const int N = problem_.num_steps;
+  const double dt = problem_.time_step;
+  // Warm start: the previous plan resampled at the new knot times.
+  for (int k = 0; k <= N; ++k) {
+    plan_.q_spline.Evaluate(t + k * dt, &q_shift_[k]);
+    NormalizeQuaternions(model_, &q_shift_[k]);
+  }
+  q_shift_[0] = q_hat;
+  optimizer_->ResetInitialConditions(q_hat, v_hat);
+  if (!options_.relative_positions.empty()) {
+    for (int k = 0; k <= N; ++k) {
+      q_nom_[k] = problem_.q_nom[k];
+      for (int j : options_.relative_positions) {
+        q_nom_[k](j) = q_hat(j) + (problem_.q_nom[k](j) - problem_.q_init(j));
+      }
+    }
+    optimizer_->UpdateNominalTrajectory(q_nom_, problem_.v_nom);
+  }
+  optimizer_->SetIterate(q_shift_);
+  q_warm_ = q_shift_;
+  SolverSummary summary = optimizer_->SolveWarmStart(&solution_);
+  bool finite = summary.termination != TerminationType::kFailure;
+  for (int k = 0; finite && k <= N; ++k) {
+    finite = solution_.q[k].allFinite() && solution_.v[k].allFinite() &&
+             solution_.tau[k].allFinite();
+  }
+  if (!finite) {
+    ++num_rejected_;
+    summary.termination = TerminationType::kFailure;
+    summary.message = "plan rejected (" +
+                      (summary.message.empty() ? std::string("non-finite values")
+                                               : summary.message) +
+                      "); the previous plan is kept";
+    return summary;
+  }
+  Publish(t, solution_);
+  return summary;
+}
+
+void Controller::Control(double t, const Eigen::VectorXd& q_hat, const Eigen::VectorXd& v_hat,
+                         Eigen::VectorXd* u) {
+  plan_.Sample(model_, t, &q_d_, &v_d_, &u_ff_);
+  pd_->Compute(q_hat, v_hat, q_d_, v_d_, u_ff_, u);
+}
+
+}  // namespace idto::mpc

@@ -1,0 +1,191 @@
+// MPC building blocks: cubic splines, PD+, the real-time-iteration controller's warm start.
+
+#include <cmath>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "idto/idto.hpp"
+#include "idto/mpc/controller.hpp"
+#include "support/eigen_matchers.hpp"
+#include "support/random.hpp"
+
+namespace idto::mpc {
+namespace {
+
+using ::testing::HasSubstr;
+
+TEST(CubicSpline, InterpolatesKnotsAndIsTwiceContinuouslyDifferentiable) {
+  test::Random rng(1);
+  std::vector<double> t{0.0};
+  for (int i = 1; i < 9; ++i) t.push_back(t.back() + rng.Uniform(0.05, 0.3));
+  std::vector<Eigen::VectorXd> x;
+  for (size_t i = 0; i < t.size(); ++i) x.push_back(rng.Vector(3));
+  const CubicSpline s(t, x);
+  Eigen::VectorXd y, yd, ydd, yl, ydl, yddl, yr, ydr, yddr;
+  for (size_t i = 0; i < t.size(); ++i) {
+    s.Evaluate(t[i], &y, &yd, &ydd);
+    EXPECT_EIGEN_NEAR(y, x[i], 1e-14);
+    if (i == 0 || i + 1 == t.size()) {
+      EXPECT_EIGEN_NEAR(ydd, Eigen::VectorXd::Zero(3), 1e-12);  // natural ends
+      continue;
+    }
+    const double e = 1e-9;
+    s.Evaluate(t[i] - e, &yl, &ydl, &yddl);
+    s.Evaluate(t[i] + e, &yr, &ydr, &yddr);
+    // Sampled 2e-9 apart: differences are O(2e-9 x the next derivative) if continuous, O(1)
+    // otherwise.
+    EXPECT_EIGEN_NEAR(yl, yr, 1e-6);
+    EXPECT_EIGEN_NEAR(ydl, ydr, 1e-5);
+    EXPECT_EIGEN_NEAR(yddl, yddr, 1e-4);
+  }
+  // Derivatives against finite differences inside an interval.
+  const double tm = 0.5 * (t[3] + t[4]), h = 1e-6;
+  Eigen::VectorXd yp, ym;
+  s.Evaluate(tm, &y, &yd, &ydd);
+  s.Evaluate(tm + h, &yp);
+  s.Evaluate(tm - h, &ym);
+  EXPECT_EIGEN_NEAR(yd, Eigen::VectorXd((yp - ym) / (2 * h)), 1e-7);
+  EXPECT_EIGEN_NEAR(ydd, Eigen::VectorXd((yp - 2 * y + ym) / (h * h)), 1e-3);
+}
+
+TEST(CubicSpline, ReproducesLinesExactlyAndExtendsLinearly) {
+  std::vector<double> t{0.0, 0.1, 0.3, 0.35, 1.0};
+  std::vector<Eigen::VectorXd> x;
+  for (double ti : t) x.push_back(Eigen::Vector2d(2.0 * ti - 1.0, -ti));
+  const CubicSpline s(t, x);
+  Eigen::VectorXd y, yd;
+  for (double ti : {-0.5, 0.0, 0.2, 0.77, 1.0, 1.4}) {
+    s.Evaluate(ti, &y, &yd);
+    EXPECT_EIGEN_NEAR(y, Eigen::Vector2d(2.0 * ti - 1.0, -ti), 1e-13) << ti;
+    EXPECT_EIGEN_NEAR(yd, Eigen::Vector2d(2.0, -1.0), 1e-12) << ti;
+  }
+}
+
+TEST(CubicSpline, BadKnotsAreErrors) {
+  const std::vector<Eigen::VectorXd> two(2, Eigen::VectorXd::Zero(1));
+  EXPECT_THAT([&] { CubicSpline({0.0, 0.0}, two); },
+              ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("times[1] is 0")));
+  EXPECT_THAT([&] { CubicSpline({0.0}, {Eigen::VectorXd::Zero(1)}); },
+              ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("at least 2")));
+}
+
+Model TwoLinkWithFreeBase() {
+  ModelBuilder b;
+  BodyInertia I;
+  I.mass = 1.0;
+  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 0.01;
+  JointSpec free;
+  free.name = "base";
+  free.type = JointType::kFloating;
+  const BodyIndex base = b.AddBody("base", I, kWorldBody, free);
+  JointSpec hinge;
+  hinge.name = "hinge";
+  hinge.type = JointType::kRevolute;
+  hinge.axis = Eigen::Vector3d::UnitY();
+  b.AddBody("arm", I, base, hinge);
+  return b.Build();
+}
+
+TEST(PdController, SignsUnitsAndUnactuatedDofs) {
+  const Model model = TwoLinkWithFreeBase();  // nq = 8, nv = 7; hinge: q index 7, v index 6
+  PdGains gains{Eigen::VectorXd::Constant(7, 10.0), Eigen::VectorXd::Constant(7, 2.0)};
+  const PdController pd(model, {6}, gains);
+  Eigen::VectorXd q = model.NeutralConfiguration(), q_d = q;
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(7), v_d = v, u_ff = Eigen::VectorXd::Zero(7);
+  q_d(7) = 0.1;   // desired ahead of the measured angle: positive torque
+  v_d(6) = -0.5;  // desired slower: negative damping term
+  u_ff(6) = 3.0;
+  u_ff(0) = 99.0;  // on an unactuated DoF: ignored
+  Eigen::VectorXd u;
+  pd.Compute(q, v, q_d, v_d, u_ff, &u);
+  EXPECT_NEAR(u(6), 3.0 + 10.0 * 0.1 + 2.0 * (-0.5), 1e-15);
+  EXPECT_EQ(u.head<6>().norm(), 0.0);
+  EXPECT_THAT([&] { PdController(model, {0}, gains); },
+              ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("floating")));
+  gains.Kp(6) = -1.0;
+  EXPECT_THAT([&] { PdController(model, {6}, gains); },
+              ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("gains.Kp(6) is -1")));
+}
+
+Model Pendulum() {
+  ModelBuilder b("pendulum");
+  JointSpec j;
+  j.name = "hinge";
+  j.type = JointType::kRevolute;
+  j.axis = Eigen::Vector3d::UnitY();
+  j.damping = 0.1;
+  BodyInertia I;
+  I.mass = 1.0;
+  I.p_BBcm << 0, 0, -1;
+  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 1e-3;
+  b.AddBody("link", I, kWorldBody, j);
+  return b.Build();
+}
+
+ProblemDefinition SwingUp(const Model& model) {
+  ProblemDefinition p = ProblemDefinition::MakeDefault(model, 0.05, 20);
+  p.Qq.setConstant(0.1);
+  p.Qv.setConstant(0.1);
+  p.R.setConstant(0.01);
+  p.Qfq.setConstant(100.0);
+  p.Qfv.setConstant(10.0);
+  p.SetConstantNominal(Eigen::VectorXd::Constant(1, M_PI), Eigen::VectorXd::Zero(1));
+  return p;
+}
+
+TEST(Controller, WarmStartIsThePreviousPlanShiftedInTime) {
+  const Model model = Pendulum();
+  const ProblemDefinition p = SwingUp(model);
+  MpcOptions o;
+  Controller c(model, p, SolverOptions{}, o);
+  c.Initialize(std::vector<Eigen::VectorXd>(21, p.q_init), 30);
+  const Plan before = c.plan();
+  // Re-plan exactly one knot later, from the plan's own state there.
+  const double t = p.time_step;
+  c.Replan(t, before.q[1], before.v[1]);
+  const std::vector<Eigen::VectorXd>& w = c.last_warm_start();
+  for (int k = 0; k < 20; ++k) EXPECT_EIGEN_NEAR(w[k], before.q[k + 1], 1e-12) << k;
+  // Past the old horizon: the spline's linear extension.
+  EXPECT_NEAR(w[20](0), before.q[20](0) + (before.q[20](0) - before.q[19](0)), 0.05);
+  EXPECT_DOUBLE_EQ(c.plan().start_time, t);
+  // Sampling the new plan at its start gives the measured state (q_0 is fixed to it).
+  Eigen::VectorXd q_d, v_d, u_ff;
+  c.plan().Sample(model, t, &q_d, &v_d, &u_ff);
+  EXPECT_EIGEN_NEAR(q_d, before.q[1], 1e-12);
+}
+
+TEST(Controller, RelativeNominalsMoveWithTheMeasuredState) {
+  const Model model = Pendulum();
+  ProblemDefinition p = SwingUp(model);
+  // Target: 2 rad ahead of the initial angle, kept ahead of wherever the pendulum is.
+  p.SetConstantNominal(Eigen::VectorXd::Constant(1, 2.0), Eigen::VectorXd::Zero(1));
+  MpcOptions o;
+  o.relative_positions = {0};
+  Controller c(model, p, SolverOptions{}, o);
+  c.Initialize(std::vector<Eigen::VectorXd>(21, p.q_init), 5);
+  c.Replan(0.05, Eigen::VectorXd::Constant(1, 0.7), Eigen::VectorXd::Zero(1));
+  EXPECT_NEAR(c.optimizer().problem().q_nom[20](0), 2.7, 1e-15);
+}
+
+TEST(Controller, AFailedReplanKeepsThePreviousPlan) {
+  const Model model = Pendulum();
+  ProblemDefinition p = ProblemDefinition::MakeDefault(model, 0.05, 10);
+  p.R.setConstant(0.01);
+  p.Qfq.setConstant(10.0);
+  MpcOptions o;
+  Controller c(model, p, SolverOptions{}, o);
+  c.Initialize(std::vector<Eigen::VectorXd>(11, p.q_init), 3);
+  const double start = c.plan().start_time;
+  // Removing every weight but the terminal position makes the Hessian singular.
+  ProblemDefinition& live = const_cast<ProblemDefinition&>(c.optimizer().problem());
+  live.R.setZero();
+  const SolverSummary s = c.Replan(0.05, p.q_init, p.v_init);
+  EXPECT_EQ(s.termination, TerminationType::kFailure);
+  EXPECT_THAT(s.message, HasSubstr("previous plan is kept"));
+  EXPECT_EQ(c.plan().start_time, start);
+  EXPECT_EQ(c.num_rejected_plans(), 1);
+}
+
+}  // namespace
+}  // namespace idto::mpc
