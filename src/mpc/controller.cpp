@@ -116,16 +116,16 @@ SolverSummary Controller::Replan(double t, const Eigen::VectorXd& q_hat,
   SolverSummary summary = optimizer_->SolveWarmStart(&solution_);
   bool finite = summary.termination != TerminationType::kFailure;
   for (int k = 0; finite && k <= N; ++k) {
-    finite = solution_.q[k].allFinite() && solution_.v[k].allFinite() &&
-             solution_.tau[k].allFinite();
+    finite =
+        solution_.q[k].allFinite() && solution_.v[k].allFinite() && solution_.tau[k].allFinite();
   }
   if (!finite) {
     ++num_rejected_;
     summary.termination = TerminationType::kFailure;
-    summary.message = "plan rejected (" +
-                      (summary.message.empty() ? std::string("non-finite values")
-                                               : summary.message) +
-                      "); the previous plan is kept";
+    summary.message =
+        "plan rejected (" +
+        (summary.message.empty() ? std::string("non-finite values") : summary.message) +
+        "); the previous plan is kept";
     return summary;
   }
   Publish(t, solution_);

@@ -26,9 +26,9 @@ void CubicSpline::Fit(const std::vector<double>& times,
   for (int i = 0; i < m; ++i) {
     CheckFinite(kWhere, "times[" + std::to_string(i) + "]", times[i]);
     if (i > 0 && !(times[i] > times[i - 1])) {
-      ThrowInvalidArgument(kWhere, "times[" + std::to_string(i) + "]", FormatValue(times[i]),
-                           "greater than times[" + std::to_string(i - 1) + "] = " +
-                               FormatValue(times[i - 1]));
+      ThrowInvalidArgument(
+          kWhere, "times[" + std::to_string(i) + "]", FormatValue(times[i]),
+          "greater than times[" + std::to_string(i - 1) + "] = " + FormatValue(times[i - 1]));
     }
     if (values[i].size() != n) {
       CheckSize(kWhere, "values[" + std::to_string(i) + "]", values[i].size(), n, "values[0]");
@@ -97,8 +97,8 @@ void CubicSpline::Evaluate(double t, Eigen::VectorXd* x, Eigen::VectorXd* xdot,
     if (xddot != nullptr) xddot->setZero(n_);
     return;
   }
-  const int i = std::min(
-      m - 2, static_cast<int>(std::upper_bound(t_.begin(), t_.end(), t) - t_.begin()) - 1);
+  const int i =
+      std::min(m - 2, static_cast<int>(std::upper_bound(t_.begin(), t_.end(), t) - t_.begin()) - 1);
   in_interval(std::max(i, 0), t, x, xdot, xddot);
 }
 

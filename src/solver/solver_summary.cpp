@@ -81,13 +81,14 @@ std::string SolverSummary::ToCsv() const {
   std::ostringstream out;
   out.precision(17);
   out << "iteration,cost,merit,gradient_norm,step_norm,scaled_step_norm,trust_radius,ratio,"
-         "accepted,step_type,constraint_violation,trial_cost,time_derivatives,time_cost,"
+         "accepted,step_type,constraint_violation,trial_cost,regularization,time_derivatives,time_cost,"
          "time_hessian,time_factorization,time_multipliers,time_total\n";
   for (const IterationSummary& s : log) {
     out << s.iteration << ',' << s.cost << ',' << s.merit << ',' << s.gradient_norm << ','
         << s.step_norm << ',' << s.scaled_step_norm << ',' << s.trust_radius << ',' << s.ratio
         << ',' << (s.accepted ? 1 : 0) << ',' << StepName(s.step_type) << ','
-        << s.constraint_violation << ',' << s.trial_cost << ',' << s.time_derivatives << ','
+        << s.constraint_violation << ',' << s.trial_cost << ',' << s.regularization << ','
+        << s.time_derivatives << ','
         << s.time_cost << ',' << s.time_hessian << ',' << s.time_factorization << ','
         << s.time_multipliers << ',' << s.time_total << '\n';
   }

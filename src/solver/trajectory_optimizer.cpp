@@ -414,6 +414,35 @@ class TrajectoryOptimizer::Impl {
     NormalizeQuaternions(model_, &q_[0]);
   }
 
+  // Factors H_. A Gauss-Newton Hessian is positive semi-definite in exact arithmetic, but with
+  // stiff contact its entries span ~18 orders of magnitude and round-off can make it
+  // numerically indefinite (or a block singular). Then retry with H + mu diag(H) (scale
+  // invariant, a Levenberg-Marquardt shift), mu = 1e-12, 1e-10, ..., 1e-2; the shift stays in
+  // H_, so the step and the predicted reduction use the same model. *mu is the shift used.
+  bool Factorize(double* mu) {
+    *mu = 0.0;
+    chol_.compute(H_);
+    if (chol_.info() == PentaDiagonalCholesky::Info::kSuccess) return true;
+    H_.Diagonal(&work_);
+    double applied = 0.0;
+    for (double next = 1e-12; next <= 1e-2 * (1 + 1e-9); next *= 100.0) {
+      for (int r = 0; r < N_; ++r) {
+        for (int i = 0; i < nq_; ++i) {
+          const double d = work_(r * nq_ + i);
+          // Rows without curvature get an absolute shift relative to the largest entry.
+          H_.C(r)(i, i) += (next - applied) * (d > 0.0 ? d : 1.0);
+        }
+      }
+      applied = next;
+      chol_.compute(H_);
+      if (chol_.info() == PentaDiagonalCholesky::Info::kSuccess) {
+        *mu = applied;
+        return true;
+      }
+    }
+    return false;
+  }
+
   // Dogleg in scaled coordinates (p = D p~). Returns the step kind; p_ holds the step.
   DoglegStep Dogleg(double radius, double* scaled_norm) {
     // Newton: |D^-1 p_N|.
@@ -497,16 +526,17 @@ class TrajectoryOptimizer::Impl {
                                                               : 1.0 / std::sqrt(std::sqrt(d));
           }
         }
-        chol_.compute(H_);
-        const Clock::time_point t3 = Clock::now();
-        s.time_factorization = Seconds(t2, t3);
-        if (chol_.info() != PentaDiagonalCholesky::Info::kSuccess) {
+        if (!Factorize(&s.regularization)) {
+          s.time_factorization = Seconds(t2, Clock::now());
           summary.termination = TerminationType::kFailure;
           summary.message = "the Hessian factorization failed at block " +
-                            std::to_string(chol_.failed_block()) + "; last good iterate kept";
+                            std::to_string(chol_.failed_block()) +
+                            " even with regularization; last good iterate kept";
           summary.log.push_back(s);
           break;
         }
+        const Clock::time_point t3 = Clock::now();
+        s.time_factorization = Seconds(t2, t3);
         g_merit_ = g_;
         merit = cost;
         if (lagrange) {

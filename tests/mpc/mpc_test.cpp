@@ -170,21 +170,20 @@ TEST(Controller, RelativeNominalsMoveWithTheMeasuredState) {
 
 TEST(Controller, AFailedReplanKeepsThePreviousPlan) {
   const Model model = Pendulum();
-  ProblemDefinition p = ProblemDefinition::MakeDefault(model, 0.05, 10);
-  p.R.setConstant(0.01);
-  p.Qfq.setConstant(10.0);
-  MpcOptions o;
-  Controller c(model, p, SolverOptions{}, o);
-  c.Initialize(std::vector<Eigen::VectorXd>(11, p.q_init), 3);
+  const ProblemDefinition p = SwingUp(model);
+  Controller c(model, p, SolverOptions{}, MpcOptions{});
+  c.Initialize(std::vector<Eigen::VectorXd>(21, p.q_init), 3);
   const double start = c.plan().start_time;
-  // Removing every weight but the terminal position makes the Hessian singular.
-  ProblemDefinition& live = const_cast<ProblemDefinition&>(c.optimizer().problem());
-  live.R.setZero();
-  const SolverSummary s = c.Replan(0.05, p.q_init, p.v_init);
+  const Eigen::VectorXd q0 = c.plan().q[3];
+  // A measured angle so large that velocities overflow: the cost is not finite.
+  const SolverSummary s =
+      c.Replan(0.05, Eigen::VectorXd::Constant(1, 1e300), Eigen::VectorXd::Zero(1));
   EXPECT_EQ(s.termination, TerminationType::kFailure);
   EXPECT_THAT(s.message, HasSubstr("previous plan is kept"));
   EXPECT_EQ(c.plan().start_time, start);
+  EXPECT_EQ(c.plan().q[3], q0);
   EXPECT_EQ(c.num_rejected_plans(), 1);
+  for (const Eigen::VectorXd& q : c.plan().q) EXPECT_TRUE(q.allFinite());
 }
 
 }  // namespace

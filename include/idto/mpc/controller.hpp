@@ -23,14 +23,14 @@ namespace idto::mpc {
 
 /// Options of the real-time-iteration controller.
 struct MpcOptions {
-  double control_rate{100.0};   ///< Hz: a new plan every 1 / control_rate seconds
-  int iterations_per_step{1};   ///< solver iterations per re-plan (paper: 1)
+  double control_rate{100.0};  ///< Hz: a new plan every 1 / control_rate seconds
+  int iterations_per_step{1};  ///< solver iterations per re-plan (paper: 1)
   /// Position coordinates whose nominal moves with the robot: at each re-plan,
   /// qbar_k(j) = q_measured(j) + (qbar0_k(j) - q_init0(j)), i.e. the original offsets from the
   /// initial condition are kept (the spinner's target stays 2 rad ahead; a walking robot's
   /// target stays ahead of its base).
   std::vector<int> relative_positions;
-  PdGains gains;                ///< nv each; zero gives pure feed-forward
+  PdGains gains;  ///< nv each; zero gives pure feed-forward
   /// Actuated velocity indices for the PD+ controller (default: all but the problem's
   /// unactuated DoFs).
   std::vector<int> actuated;

@@ -35,8 +35,8 @@ class CubicSpline {
  private:
   int n_{0};
   std::vector<double> t_;
-  Eigen::MatrixXd x_;    // n x m knot values
-  Eigen::MatrixXd m2_;   // n x m second derivatives at the knots
+  Eigen::MatrixXd x_;   // n x m knot values
+  Eigen::MatrixXd m2_;  // n x m second derivatives at the knots
   Eigen::VectorXd diag_, rhs_scratch_;
 };
 

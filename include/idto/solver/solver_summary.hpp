@@ -36,6 +36,8 @@ struct IterationSummary {
   DoglegStep step_type{DoglegStep::kNone};
   double constraint_violation{0.0};  ///< sum of squared unactuated generalized forces
   double trial_cost{0.0};
+  /// Levenberg-Marquardt shift mu of H + mu diag(H) needed to factor H (0: none).
+  double regularization{0.0};
   // Seconds spent in each phase.
   double time_derivatives{0.0};
   double time_cost{0.0};

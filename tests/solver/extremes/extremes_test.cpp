@@ -1,0 +1,192 @@
+// Stability at the extremes (label "extremes"): solves at the corners of the parameter space end
+// with a valid status (converged, max iterations, or a reported failure), never return NaN, and
+// never crash. Which corners converge is printed (RecordProperty) for docs/tradeoffs.md.
+
+#include <cmath>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "idto/idto.hpp"
+
+namespace idto {
+namespace {
+
+BodyInertia Mass(double m, const Eigen::Vector3d& com) {
+  BodyInertia I;
+  I.mass = m;
+  I.p_BBcm = com;
+  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 1e-3 * m;
+  return I;
+}
+
+// A free ball on the ground and a two-link finger (floating base, contact, quaternions).
+Model BallAndFinger() {
+  ModelBuilder b("ball_and_finger");
+  b.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
+  JointSpec free;
+  free.name = "ball_free";
+  free.type = JointType::kFloating;
+  BodyInertia ball;
+  ball.mass = 0.2;
+  ball.I_BBcm_B = Eigen::Matrix3d::Identity() * 2e-4;
+  const BodyIndex bb = b.AddBody("ball", ball, kWorldBody, free);
+  b.AddGeometry("ball_sphere", bb, Eigen::Isometry3d::Identity(), Sphere{0.05});
+  JointSpec j1;
+  j1.name = "j1";
+  j1.type = JointType::kRevolute;
+  j1.axis = Eigen::Vector3d::UnitY();
+  j1.X_PJ.translation() << -0.3, 0.0, 0.3;
+  const BodyIndex l1 = b.AddBody("l1", Mass(0.3, Eigen::Vector3d(0.1, 0, 0)), kWorldBody, j1);
+  JointSpec j2 = j1;
+  j2.name = "j2";
+  j2.X_PJ.translation() << 0.2, 0.0, 0.0;
+  const BodyIndex l2 = b.AddBody("l2", Mass(0.2, Eigen::Vector3d(0.1, 0, 0)), l1, j2);
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.translation() << 0.2, 0.0, 0.0;
+  b.AddGeometry("tip", l2, X, Sphere{0.02});
+  return b.Build();
+}
+
+struct Corner {
+  std::string name;
+  double stiffness{500}, smoothing{0.01}, stiction{0.1};
+  double dt{0.05};
+  int N{20};
+  double weight_scale{1.0};
+  double ball_height{0.049};  // deep penetration when well below 0.05
+  double ball_speed{0.0};
+  double quaternion_w{1.0};   // near -1 / 0 for sign-flip corners
+  ConstraintMethod method{ConstraintMethod::kPenalty};
+  int iterations{30};
+};
+
+void RunCorner(const Corner& c) {
+  SCOPED_TRACE(c.name);
+  const Model model = BallAndFinger();
+  ProblemDefinition p = ProblemDefinition::MakeDefault(model, c.dt, c.N);
+  const double qw = c.quaternion_w, qx = std::sqrt(std::max(0.0, 1.0 - qw * qw));
+  p.q_init << qw, qx, 0, 0, 0.0, 0.0, c.ball_height, 0.5, -1.2;
+  p.v_init.setZero();
+  p.v_init(3) = c.ball_speed;
+  p.Qq.setConstant(1.0 * c.weight_scale);
+  p.Qv.setConstant(0.1 * c.weight_scale);
+  p.R.setConstant(0.1 * c.weight_scale);
+  p.R.head<6>().setConstant(100.0 * c.weight_scale);
+  p.Qfq.setConstant(10.0 * c.weight_scale);
+  p.Qfv.setConstant(1.0 * c.weight_scale);
+  Eigen::VectorXd target = p.q_init;
+  target(4) = 0.2;
+  target(6) = 0.05;
+  p.SetConstantNominal(target, Eigen::VectorXd::Zero(model.nv()));
+  p.contact.parameters.stiffness = c.stiffness;
+  p.contact.parameters.smoothing = c.smoothing;
+  p.contact.parameters.stiction_velocity = c.stiction;
+  SolverOptions o;
+  o.max_iterations = c.iterations;
+  o.constraint_method = c.method;
+  TrajectoryOptimizer opt(model, p, o);
+  Trajectory sol;
+  const SolverSummary s =
+      opt.Solve(std::vector<Eigen::VectorXd>(c.N + 1, p.q_init), &sol);
+  ASSERT_EQ(sol.q.size(), static_cast<size_t>(c.N + 1));
+  for (int k = 0; k <= c.N; ++k) {
+    ASSERT_TRUE(sol.q[k].allFinite()) << "q[" << k << "]";
+    ASSERT_TRUE(sol.v[k].allFinite()) << "v[" << k << "]";
+    ASSERT_TRUE(sol.tau[k].allFinite()) << "tau[" << k << "]";
+  }
+  EXPECT_TRUE(s.termination == TerminationType::kConverged ||
+              s.termination == TerminationType::kMaxIterations ||
+              s.termination == TerminationType::kFailure);
+  if (s.termination == TerminationType::kFailure) {
+    EXPECT_FALSE(s.message.empty());
+  }
+  EXPECT_TRUE(std::isfinite(s.final_cost));
+  EXPECT_LE(s.final_cost, s.initial_cost * (1 + 1e-12) + 1e-12);  // never worse than the guess
+  ::testing::Test::RecordProperty(c.name, TerminationTypeName(s.termination) + " after " +
+                                              std::to_string(s.iterations) + " iterations");
+  std::printf("[corner] %-34s %-15s it=%3d cost %.3e -> %.3e viol %.2e\n", c.name.c_str(),
+              TerminationTypeName(s.termination).c_str(), s.iterations, s.initial_cost,
+              s.final_cost, s.constraint_violation);
+}
+
+TEST(Extremes, Stiffness) {
+  for (double k : {2e2, 2e4, 2e6, 2e8}) {
+    Corner c;
+    c.name = "stiffness " + std::to_string(k);
+    c.stiffness = k;
+    RunCorner(c);
+  }
+}
+
+TEST(Extremes, StictionAndSmoothing) {
+  for (double vs : {1e-3, 1e-2}) {
+    for (double sigma : {1e-5, 1e-3}) {
+      Corner c;
+      c.name = "stiction " + std::to_string(vs) + " smoothing " + std::to_string(sigma);
+      c.stiction = vs;
+      c.smoothing = sigma;
+      RunCorner(c);
+    }
+  }
+}
+
+TEST(Extremes, TimeStepsAndHorizons) {
+  for (auto [dt, N] : {std::pair{1e-3, 20}, std::pair{0.2, 10}, std::pair{0.05, 320}}) {
+    Corner c;
+    c.name = "dt " + std::to_string(dt) + " N " + std::to_string(N);
+    c.dt = dt;
+    c.N = N;
+    c.iterations = N > 100 ? 5 : 30;
+    RunCorner(c);
+  }
+}
+
+TEST(Extremes, LargeWeights) {
+  for (double w : {1e4, 1e8}) {
+    Corner c;
+    c.name = "weights x" + std::to_string(w);
+    c.weight_scale = w;
+    RunCorner(c);
+  }
+}
+
+TEST(Extremes, DeepPenetrationAndZeroVelocityContacts) {
+  Corner deep;
+  deep.name = "ball 4 cm into the ground";
+  deep.ball_height = 0.01;
+  deep.stiffness = 2e6;
+  RunCorner(deep);
+  Corner touching;
+  touching.name = "touching exactly, at rest";
+  touching.ball_height = 0.05;
+  touching.smoothing = 1e-5;
+  RunCorner(touching);
+  Corner sliding;
+  sliding.name = "sliding at 1 m/s";
+  sliding.ball_speed = 1.0;
+  sliding.stiction = 1e-3;
+  RunCorner(sliding);
+}
+
+TEST(Extremes, QuaternionsNearTheSignFlip) {
+  for (double w : {-1.0, -0.999999, 1e-9, -1e-9}) {
+    Corner c;
+    c.name = "quaternion w " + std::to_string(w);
+    c.quaternion_w = w;
+    RunCorner(c);
+  }
+}
+
+TEST(Extremes, LagrangeMultipliersAtStiffCorners) {
+  for (double k : {2e4, 2e8}) {
+    Corner c;
+    c.name = "lagrange stiffness " + std::to_string(k);
+    c.stiffness = k;
+    c.method = ConstraintMethod::kLagrangeMultipliers;
+    RunCorner(c);
+  }
+}
+
+}  // namespace
+}  // namespace idto
