@@ -5,6 +5,10 @@
 #include <functional>
 #include <map>
 
+#include "run/metrics_bimanual.hpp"
+#include "run/metrics_quadruped_allegro.hpp"
+#include "run/metrics_spinner_hopper.hpp"
+
 namespace idto::examples {
 namespace {
 
@@ -71,6 +75,14 @@ const std::map<std::string, TaskFunction>& Registry() {
   static const std::map<std::string, TaskFunction> registry = {
       {"pendulum", PendulumTask},
       {"acrobot", AcrobotTask},
+      {"quadruped", QuadrupedTask},
+      {"quadruped_hills", QuadrupedTask},
+      {"allegro", AllegroTask},
+      {"bimanual", BimanualMoveTask},
+      {"bimanual_lift", BimanualLiftTask},
+      {"bimanual_balance", BimanualBalanceTask},
+      {"spinner", SpinnerTask},
+      {"hopper", HopperTask},
   };
   return registry;
 }

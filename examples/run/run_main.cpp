@@ -12,8 +12,14 @@
 // interpolation from q_init to the last nominal configuration, quaternions slerped).
 //
 // Exit codes: 0 the solve finished (whatever its termination type: see the summary), 1 an error
-// (bad configuration file, invalid options, unwritable output), 2 bad command-line arguments,
-// 3 --mpc (not available yet).
+// (bad configuration file, invalid options, unwritable output, a plant that is not available),
+// 2 bad command-line arguments.
+//
+// --mpc runs the example in closed loop (the config's `mpc:` section, docs/config.md): the
+// real-time-iteration controller re-plans at the control rate against a plant (MuJoCo when
+// available, else the built-in stiff-contact plant), with the latency model of
+// idto::mpc::RunClosedLoop; the JSON summary gains an "mpc" object (solve-time statistics,
+// fraction of steps on time, the task measured on the closed-loop trajectory).
 
 #include <cmath>
 #include <cstdio>
@@ -27,6 +33,9 @@
 #include <vector>
 
 #include "idto/idto.hpp"
+#include "idto/mpc/closed_loop.hpp"
+#include "idto/parsers/mpc_config.hpp"
+#include "idto/sim/plant.hpp"
 #include "idto/parsers/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "idto_build_paths.hpp"
@@ -43,7 +52,6 @@ using idto::Trajectory;
 constexpr int kExitOk = 0;
 constexpr int kExitError = 1;
 constexpr int kExitUsage = 2;
-constexpr int kExitMpcUnavailable = 3;
 
 const char kUsage[] =
     "usage: idto-run CONFIG.yaml|NAME [options]\n"
@@ -56,14 +64,14 @@ const char kUsage[] =
     "  --max-iterations N                 override solver.max_iterations (N >= 0)\n"
     "  --threads N                        override solver.num_threads (N >= 1)\n"
     "  --constraints none|penalty|lagrange  override solver.constraint_method\n"
-    "  --mpc                              model predictive control (not available yet)\n"
+    "  --mpc                              closed-loop MPC against a plant (the mpc: section)\n"
     "  --summary-json FILE                write the JSON summary to FILE\n"
     "  --trajectory-csv FILE              write t, q, v, tau per time step to FILE\n"
     "  --stats-csv FILE                   write the per-iteration statistics to FILE\n"
     "  --quiet                            no iteration table\n"
     "  -h, --help                         this message\n"
     "\n"
-    "exit codes: 0 solved (any termination), 1 error, 2 bad arguments, 3 --mpc\n";
+    "exit codes: 0 solved (any termination), 1 error, 2 bad arguments\n";
 
 struct Arguments {
   std::string config;
@@ -617,6 +625,163 @@ int Run(const Arguments& args, const char* argv0) {
   return kExitOk;
 }
 
+
+// ---------------------------------------------------------------------------- MPC
+
+/// The closed-loop trajectory resampled at the planner's time step, as a Trajectory, so that
+/// the example's task measure applies to it.
+Trajectory ClosedLoopTrajectory(const idto::mpc::ClosedLoopLog& log, double dt) {
+  Trajectory t;
+  double next = 0.0;
+  for (size_t k = 0; k < log.t.size(); ++k) {
+    if (log.t[k] + 1e-9 < next) continue;
+    t.q.push_back(log.q[k]);
+    t.v.push_back(log.v[k]);
+    t.tau.push_back(log.u[k]);
+    next += dt;
+  }
+  return t;
+}
+
+int RunMpc(const Arguments& args, const char* argv0) {
+  std::vector<std::string> share_dirs =
+      idto::DefaultShareDirs(IDTO_SOURCE_SHARE_DIR, ExecutablePath(argv0));
+  share_dirs.push_back(IDTO_INSTALL_SHARE_DIR);
+  const std::string config_path = idto::FindExampleConfig(args.config, share_dirs);
+  ExampleConfig config = idto::LoadExampleConfig(config_path, share_dirs);
+  const idto::MpcConfig mpc = idto::ParseMpcConfig(config);
+  idto::SolverOptions options = config.solver;
+  if (args.threads) options.num_threads = *args.threads;
+  if (args.constraints) options.constraint_method = *args.constraints;
+  options.verbosity = 0;
+  for (const std::string& file : {args.summary_json, args.trajectory_csv, args.stats_csv}) {
+    if (!file.empty()) WriteFile(file, "", "output file");
+  }
+  const idto::Model& model = config.model;
+  std::cout << "idto-run " << IDTO_VERSION_STRING << ": " << config.name << " --mpc ("
+            << config_path << ")\n"
+            << "  plant: " << mpc.plant << ", control rate " << mpc.controller.control_rate
+            << " Hz, " << mpc.controller.iterations_per_step << " iteration(s) per step, "
+            << mpc.closed_loop.duration << " s, threads " << options.num_threads << "\n";
+  std::unique_ptr<idto::sim::Plant> plant =
+      mpc.plant == "mujoco" ? idto::sim::MakeMujocoPlant(model, mpc.mujoco)
+                            : idto::sim::MakeBuiltinPlant(model, mpc.builtin);
+  plant->Reset(config.problem.q_init, config.problem.v_init);
+  idto::mpc::Controller controller(model, config.problem, options, mpc.controller);
+  const SolverSummary first =
+      controller.Initialize(idto::MakeInitialGuess(config), mpc.initial_iterations);
+  std::cout << "  initial plan: " << first.BriefReport() << "\n";
+  const idto::mpc::ClosedLoopLog log =
+      idto::mpc::RunClosedLoop(model, mpc.closed_loop, &controller, plant.get());
+  const Trajectory closed = ClosedLoopTrajectory(log, config.problem.time_step);
+  const idto::examples::TaskResult task = idto::examples::EvaluateTask(config, closed);
+  std::cout << "result (closed loop):\n"
+            << "  re-plans: " << log.solve_time.size() << ", rejected: "
+            << log.num_rejected_plans << "\n"
+            << "  solve time: mean " << 1e3 * log.mean_solve_time() << " ms, p95 "
+            << 1e3 * log.percentile_solve_time(95) << " ms, max "
+            << 1e3 * log.max_solve_time() << " ms; period " << 1e3 * log.control_period
+            << " ms; on time " << 100.0 * log.fraction_on_time() << " %\n"
+            << "  q_final: " << FormatVector(plant->q()) << "\n";
+  for (const idto::examples::Metric& metric : task.metrics) {
+    std::cout << "  " << metric.name << ": ";
+    if (metric.is_array || metric.values.size() != 1) {
+      std::cout << FormatVector(Eigen::Map<const Eigen::VectorXd>(
+          metric.values.data(), static_cast<Eigen::Index>(metric.values.size())));
+    } else {
+      std::cout << JsonWriter::FormatNumber(metric.values[0]);
+    }
+    std::cout << "\n";
+  }
+  std::cout << "  task_success: " << (task.task_success ? "true" : "false") << " ("
+            << task.criterion << ")\n";
+  if (!args.summary_json.empty()) {
+    JsonWriter json;
+    json.BeginObject();
+    json.Key("example");
+    json.String(config.name);
+    json.Key("config_file");
+    json.String(config_path);
+    json.Key("termination");
+    json.String(idto::TerminationTypeName(first.termination));
+    json.Key("iterations");
+    json.Int(first.iterations);
+    json.Key("initial_cost");
+    json.Number(first.initial_cost);
+    json.Key("final_cost");
+    json.Number(first.final_cost);
+    json.Key("constraint_violation");
+    json.Number(first.constraint_violation);
+    json.Key("solve_time_s");
+    json.Number(first.solve_time);
+    json.Key("mean_iteration_time_s");
+    json.Number(first.mean_iteration_time());
+    json.Key("q_final");
+    json.NumberArray(plant->q());
+    json.Key("mpc");
+    json.BeginObject();
+    json.Key("plant");
+    json.String(mpc.plant);
+    json.Key("control_rate_hz");
+    json.Number(mpc.controller.control_rate);
+    json.Key("iterations_per_step");
+    json.Int(mpc.controller.iterations_per_step);
+    json.Key("duration_s");
+    json.Number(mpc.closed_loop.duration);
+    json.Key("num_replans");
+    json.Int(static_cast<long long>(log.solve_time.size()));
+    json.Key("rejected_plans");
+    json.Int(log.num_rejected_plans);
+    json.Key("mean_solve_time_s");
+    json.Number(log.mean_solve_time());
+    json.Key("p95_solve_time_s");
+    json.Number(log.percentile_solve_time(95));
+    json.Key("max_solve_time_s");
+    json.Number(log.max_solve_time());
+    json.Key("fraction_on_time");
+    json.Number(log.fraction_on_time());
+    json.Key("metrics");
+    json.BeginObject();
+    for (const idto::examples::Metric& metric : task.metrics) {
+      json.Key(metric.name);
+      if (metric.is_array || metric.values.size() != 1) {
+        json.NumberArray(metric.values);
+      } else {
+        json.Number(metric.values[0]);
+      }
+    }
+    json.EndObject();
+    json.Key("task_success");
+    json.Bool(task.task_success);
+    json.EndObject();
+    json.Key("metrics");
+    json.BeginObject();
+    json.EndObject();
+    json.Key("task_success");
+    json.Bool(task.task_success);
+    json.Key("log");
+    json.BeginArray();
+    json.EndArray();
+    json.EndObject();
+    WriteFile(args.summary_json, json.str(), "JSON summary");
+    std::cout << "wrote " << args.summary_json << "\n";
+  }
+  if (!args.trajectory_csv.empty()) {
+    WriteFile(args.trajectory_csv, log.ToCsv(model), "closed-loop trajectory CSV");
+    std::cout << "wrote " << args.trajectory_csv << "\n";
+  }
+  if (!args.stats_csv.empty()) {
+    std::ostringstream out;
+    out << "replan_time,solve_time,status\n";
+    for (size_t i = 0; i < log.solve_time.size(); ++i) {
+      out << log.replan_time[i] << "," << log.solve_time[i] << "," << log.solve_status[i] << "\n";
+    }
+    WriteFile(args.stats_csv, out.str(), "solve-time CSV");
+    std::cout << "wrote " << args.stats_csv << "\n";
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -631,11 +796,8 @@ int main(int argc, char** argv) {
     std::cout << kUsage;
     return kExitOk;
   }
-  if (args.mpc) {
-    std::cerr << "idto-run: MPC mode is not available yet\n";
-    return kExitMpcUnavailable;
-  }
   try {
+    if (args.mpc) return RunMpc(args, argc > 0 ? argv[0] : nullptr);
     return Run(args, argc > 0 ? argv[0] : nullptr);
   } catch (const std::exception& e) {
     std::cerr << "idto-run: error: " << e.what() << "\n";

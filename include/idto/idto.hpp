@@ -40,5 +40,8 @@
 #include "idto/mpc/spline.hpp"
 // sim
 #include "idto/sim/mjcf.hpp"
+#include "idto/sim/plant.hpp"
+// closed loop
+#include "idto/mpc/closed_loop.hpp"
 // example configuration files (YAML): builds models, problems and solver options
 #include "idto/parsers/config.hpp"

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
@@ -24,6 +25,7 @@
 #include <Eigen/Geometry>
 
 #include "idto/core/errors.hpp"
+#include "idto/geometry/signed_distance.hpp"
 #include "idto/multibody/model_builder.hpp"
 
 namespace idto {
@@ -505,10 +507,14 @@ const std::vector<std::string> kTopLevelKeys = {"name",    "description", "task_
                                                 "problem", "solver",      "mpc"};
 const std::vector<std::string> kSceneKeys = {"models", "geometry", "gravity", "enable_contact",
                                              "contact"};
-const std::vector<std::string> kModelKeys = {"urdf",       "base",          "position", "rpy",
-                                             "quaternion", "planar_normal", "prefix",   "name"};
-const std::vector<std::string> kGeometryKeys = {"name",     "shape", "radius",     "length", "size",
-                                                "position", "rpy",   "quaternion", "body"};
+const std::vector<std::string> kModelKeys = {"urdf",   "base",       "position",
+                                             "rpy",    "quaternion", "planar_normal",
+                                             "prefix", "name",       "inscribed_spheres"};
+const std::vector<std::string> kGeometryKeys = {
+    "name",     "shape", "radius",     "length", "size",
+    "position", "rpy",   "quaternion", "body",   "inscribed_spheres"};
+const std::vector<std::string> kInscribedSpheresKeys = {"num_per_axis", "radius_fraction",
+                                                        "center_sphere"};
 const std::vector<std::string> kContactParameterKeys = {
     "stiffness", "smoothing", "dissipation_velocity", "friction_coefficient", "stiction_velocity"};
 const std::vector<std::string> kProblemKeys = {"time_step", "horizon",         "num_steps",
@@ -522,6 +528,40 @@ const std::vector<std::string> kSolverKeys = {
     "scaling",          "initial_trust_radius", "max_trust_radius",
     "acceptance_ratio", "cost_tolerance",       "gradient_tolerance",
     "step_tolerance",   "fixed_iterations",     "verbosity"};
+
+/// `inscribed_spheres`: true (InscribedSpheresOptions{}), false (none), or a map
+/// {num_per_axis, radius_fraction, center_sphere} (enabled, unspecified keys at their defaults).
+std::optional<InscribedSpheresOptions> ReadInscribedSpheres(const Reader& reader,
+                                                            const YAML::Node& node,
+                                                            const std::string& path) {
+  const std::string expected =
+      "true, false or a map {num_per_axis: integer >= 2, radius_fraction: number in (0, 0.5], "
+      "center_sphere: bool}";
+  if (node.IsScalar()) {
+    bool enabled = false;
+    if (!YAML::convert<bool>::decode(node, enabled)) {
+      reader.FailValue(node, path, Describe(node), expected);
+    }
+    if (!enabled) return std::nullopt;
+    return InscribedSpheresOptions{};
+  }
+  if (!node.IsMap()) reader.FailValue(node, path, Describe(node), expected);
+  const MapReader m(reader, node, path, kInscribedSpheresKeys);
+  InscribedSpheresOptions options;
+  options.num_per_axis = m.Int("num_per_axis", options.num_per_axis, 2);
+  if (options.num_per_axis > 100) {
+    reader.FailValue(m.Get("num_per_axis"), m.Path("num_per_axis"),
+                     std::to_string(options.num_per_axis), "an integer from 2 to 100");
+  }
+  options.radius_fraction = m.Double("radius_fraction", options.radius_fraction);
+  if (!(options.radius_fraction > 0.0 && options.radius_fraction <= 0.5)) {
+    reader.FailValue(m.Get("radius_fraction"), m.Path("radius_fraction"),
+                     FormatValue(options.radius_fraction),
+                     "a number in (0, 0.5] (sphere radius / smallest box side)");
+  }
+  options.center_sphere = m.Bool("center_sphere", options.center_sphere);
+  return options;
+}
 
 class ConfigLoader {
  public:
@@ -629,6 +669,10 @@ class ConfigLoader {
     }
     model.options.prefix = m.String("prefix", "");
     model.options.model_name = m.String("name", "");
+    if (m.Has("inscribed_spheres")) {
+      model.options.box_inscribed_spheres =
+          ReadInscribedSpheres(reader_, m.Get("inscribed_spheres"), m.Path("inscribed_spheres"));
+    }
     try {
       AddUrdfFile(model.urdf_file, model.options, builder);
     } catch (const std::exception& e) {
@@ -688,6 +732,15 @@ class ConfigLoader {
         shape = HalfSpace{};
         break;
     }
+    std::optional<InscribedSpheresOptions> inscribed_spheres;
+    if (g.Has("inscribed_spheres")) {
+      if (type != 3) {
+        reader_.Fail(g.Get("inscribed_spheres"), g.Path("inscribed_spheres"),
+                     "not used by shape " + kShapeNames[type] + "; expected only with shape: box");
+      }
+      inscribed_spheres =
+          ReadInscribedSpheres(reader_, g.Get("inscribed_spheres"), g.Path("inscribed_spheres"));
+    }
     const Eigen::Isometry3d X_BG = ReadPose(reader_, g);
     const std::string body_name = g.String("body", "world");
     if (!builder->HasBody(body_name)) {
@@ -695,7 +748,18 @@ class ConfigLoader {
                    "unknown body '" + body_name + "'; expected 'world' or a body of the models");
     }
     try {
-      builder->AddGeometry(name, builder->GetBodyIndex(body_name), X_BG, shape);
+      const BodyIndex body = builder->GetBodyIndex(body_name);
+      if (!inscribed_spheres.has_value()) {
+        builder->AddGeometry(name, body, X_BG, shape);
+      } else {
+        // The box's inscribed spheres instead of the box: <name>_sphere0, <name>_sphere1, ...
+        const std::vector<InscribedSphere> spheres =
+            InscribedSpheres(std::get<Box>(shape), *inscribed_spheres);
+        for (std::size_t k = 0; k < spheres.size(); ++k) {
+          builder->AddGeometry(name + "_sphere" + std::to_string(k), body,
+                               X_BG * spheres[k].X_BoxSphere, spheres[k].sphere);
+        }
+      }
     } catch (const std::exception& e) {
       reader_.Fail(g.node(), g.path(), e.what());
     }

@@ -14,7 +14,8 @@
 //    joint frame of its parent joint at q = 0);
 //  - a root link named "world" stands for the world: its child joints attach to the world body at
 //    options.X_WB, its collision geometry goes to the world; options.base is then not used;
-//  - collision spheres, boxes and cylinders are kept; meshes are skipped;
+//  - collision spheres, boxes and cylinders are kept (boxes replaced by their inscribed spheres
+//    when options.box_inscribed_spheres is set); meshes are skipped;
 //  - <limit> without lower and upper attributes leaves the position unbounded, effort="0"
 //    means no effort limit; velocity limits, <safety_controller>, <calibration>, <mimic> and
 //    <transmission> are ignored.
@@ -42,6 +43,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "idto/core/errors.hpp"
+#include "idto/geometry/signed_distance.hpp"
 
 namespace idto {
 namespace {
@@ -617,6 +619,18 @@ BodyIndex AddParsed(const ParsedUrdf& parsed, const UrdfOptions& options, ModelB
     }
   }
 
+  if (options.box_inscribed_spheres.has_value()) {
+    const InscribedSpheresOptions& spheres = *options.box_inscribed_spheres;
+    if (spheres.num_per_axis < 2 || spheres.num_per_axis > 100) {
+      ThrowInvalidArgument(where, "options.box_inscribed_spheres->num_per_axis",
+                           std::to_string(spheres.num_per_axis), "an integer from 2 to 100");
+    }
+    if (!(spheres.radius_fraction > 0.0 && spheres.radius_fraction <= 0.5)) {
+      ThrowInvalidArgument(where, "options.box_inscribed_spheres->radius_fraction",
+                           FormatValue(spheres.radius_fraction), "a number in (0, 0.5]");
+    }
+  }
+
   const bool world_root = tree.root == "world";
   const BaseType base = options.base;
   if (!world_root && base == BaseType::kPlanar) {
@@ -729,7 +743,22 @@ BodyIndex AddParsed(const ParsedUrdf& parsed, const UrdfOptions& options, ModelB
       g.X_LG = ToIsometry(collision->origin);
       CheckPose(g.X_LG, source, element, "collision '" + g.urdf_name + "' <origin>");
       g.shape = shape;
-      geometry_of[name].push_back(g);
+      const Box* box = std::get_if<Box>(&shape);
+      if (box == nullptr || !options.box_inscribed_spheres.has_value()) {
+        geometry_of[name].push_back(g);
+        continue;
+      }
+      // The box's inscribed spheres instead of the box, named after the box's (unique) name.
+      const std::vector<InscribedSphere> spheres =
+          InscribedSpheres(*box, *options.box_inscribed_spheres);
+      for (std::size_t k = 0; k < spheres.size(); ++k) {
+        PlannedGeometry sphere;
+        sphere.urdf_name = g.urdf_name + "_sphere" + std::to_string(k);
+        sphere.name = UniqueName(g.name + "_sphere" + std::to_string(k), &geometry_names);
+        sphere.X_LG = g.X_LG * spheres[k].X_BoxSphere;
+        sphere.shape = spheres[k].sphere;
+        geometry_of[name].push_back(sphere);
+      }
     }
   }
 

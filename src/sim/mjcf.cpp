@@ -358,6 +358,17 @@ bool MjcfOptions::IsValid(std::string* why) const {
   } else if (contype < 0 || conaffinity < 0) {
     reason = "contype/conaffinity are " + std::to_string(contype) + "/" +
              std::to_string(conaffinity) + "; expected non-negative bit masks";
+  } else if (!contact_pairs.empty() && !include_geometry) {
+    reason =
+        "contact_pairs is not empty while include_geometry is false; expected geometry "
+        "for the pairs";
+  }
+  for (size_t i = 0; i < contact_pairs.size() && reason.empty(); ++i) {
+    const double mu = contact_pairs[i].friction_coefficient;
+    if (!(std::isfinite(mu) && mu >= 0.0)) {
+      reason = "contact_pairs[" + std::to_string(i) + "].friction_coefficient is " +
+               FormatValue(mu) + "; expected a finite non-negative number";
+    }
   }
   if (why != nullptr) *why = reason;
   return reason.empty();
@@ -386,6 +397,25 @@ std::string MakeMjcf(const Model& model, const MjcfOptions& options) {
     WriteBody(model, tree, child, options, 2, &out);
   }
   out << "  </worldbody>\n";
+  if (!options.contact_pairs.empty()) {
+    const int num_geometries = static_cast<int>(model.geometries().size());
+    out << "  <contact>\n";
+    for (size_t i = 0; i < options.contact_pairs.size(); ++i) {
+      const MjcfContactPair& pair = options.contact_pairs[i];
+      for (const GeometryIndex g : {pair.geometry_a, pair.geometry_b}) {
+        if (g < 0 || g >= num_geometries) {
+          ThrowInvalidArgument("MakeMjcf", "options.contact_pairs[" + std::to_string(i) + "]",
+                               "geometry index " + std::to_string(g),
+                               "an index in [0, " + std::to_string(num_geometries) + ")");
+        }
+      }
+      const std::string mu = Num(pair.friction_coefficient);
+      out << "    <pair geom1=\"" << Escape(model.geometries()[pair.geometry_a].name)
+          << "\" geom2=\"" << Escape(model.geometries()[pair.geometry_b].name)
+          << "\" condim=\"3\" friction=\"" << mu << " " << mu << " 0.005 0.0001 0.0001\"/>\n";
+    }
+    out << "  </contact>\n";
+  }
   if (options.include_actuators) {
     std::ostringstream actuators;
     for (const BodyIndex b : tree.dfs) {

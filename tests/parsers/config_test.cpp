@@ -17,6 +17,7 @@
 #include <Eigen/Geometry>
 
 #include "idto/core/errors.hpp"
+#include "idto/geometry/signed_distance.hpp"
 #include "support/eigen_matchers.hpp"
 
 namespace idto {
@@ -251,6 +252,68 @@ TEST(ConfigTest, ExamplesLoad) {
     EXPECT_FALSE(config.task_success.empty());
     EXPECT_FALSE(config.description.empty());
   }
+}
+
+TEST(ConfigTest, InscribedSpheresReplaceBoxes) {
+  // A scene box with `inscribed_spheres: true` becomes InscribedSpheres(box): <name>_sphere0..8,
+  // posed in the body like the box; a map chooses the layout; `false` keeps the box.
+  const std::string geometry =
+      "  geometry:\n"
+      "    - {name: cube, shape: box, size: [0.15, 0.15, 0.15], position: [0.5, 0, 0.1],\n"
+      "       rpy: [0, 0, 0.3], inscribed_spheres: true}\n"
+      "    - {name: slab, shape: box, size: [0.2, 0.1, 0.05], body: lower_link,\n"
+      "       inscribed_spheres: {num_per_axis: 3, radius_fraction: 0.2, center_sphere: false}}\n"
+      "    - {name: kept, shape: box, size: [0.1, 0.1, 0.1], inscribed_spheres: false}\n"
+      "  models:";
+  const ExampleConfig config = LoadText(With("  models:", geometry));
+  const Model& model = config.model;
+  ASSERT_EQ(model.geometries().size(), 9u + 26u + 1u);
+  Eigen::Isometry3d X_WCube = Eigen::Isometry3d::Identity();
+  X_WCube.translation() = Eigen::Vector3d(0.5, 0, 0.1);
+  X_WCube.linear() = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const std::vector<InscribedSphere> cube = InscribedSpheres(Box{Eigen::Vector3d::Constant(0.15)});
+  for (std::size_t k = 0; k < cube.size(); ++k) {
+    SCOPED_TRACE(k);
+    const GeometryInstance& g =
+        model.geometries()[model.GetGeometryIndex("cube_sphere" + std::to_string(k))];
+    EXPECT_EQ(g.body, kWorldBody);
+    ASSERT_TRUE(std::holds_alternative<Sphere>(g.shape));
+    EXPECT_DOUBLE_EQ(std::get<Sphere>(g.shape).radius, cube[k].sphere.radius);
+    EXPECT_EIGEN_NEAR(g.X_BG.matrix(), (X_WCube * cube[k].X_BoxSphere).matrix(), kTol);
+  }
+  EXPECT_DOUBLE_EQ(cube[8].sphere.radius, 0.075);  // the centre sphere comes last
+  const GeometryInstance& slab = model.geometries()[model.GetGeometryIndex("slab_sphere25")];
+  EXPECT_EQ(slab.body, model.GetBodyIndex("lower_link"));
+  EXPECT_DOUBLE_EQ(std::get<Sphere>(slab.shape).radius, 0.2 * 0.05);
+  EXPECT_TRUE(
+      std::holds_alternative<Box>(model.geometries()[model.GetGeometryIndex("kept")].shape));
+  // Contact filters can name the spheres.
+  const std::string without_models = geometry.substr(0, geometry.rfind("  models:"));
+  EXPECT_NO_THROW(LoadText(With(
+      "  models:",
+      without_models + "  contact: {excluded_pairs: [[cube_sphere8, slab_sphere0]]}\n  models:")));
+}
+
+TEST(ConfigTest, InscribedSpheresOfUrdfBoxes) {
+  // scene.models[i].inscribed_spheres replaces every box collision of the URDF.
+  std::string text =
+      With("    - urdf: acrobot.urdf",
+           "    - urdf: acrobot.urdf\n"
+           "    - {urdf: box.urdf, base: floating, inscribed_spheres: true, prefix: b_}");
+  text.replace(text.find("q_init: [0, 0]"), 14, "q_init: {shoulder: 0, elbow: 0}");
+  const ExampleConfig config = LoadText(text);
+  const Model& model = config.model;
+  EXPECT_EQ(model.nv(), 2 + 6);
+  ASSERT_EQ(model.geometries().size(), 9u);
+  for (int k = 0; k < 9; ++k) {
+    const GeometryInstance& g =
+        model.geometries()[model.GetGeometryIndex("b_box_sphere" + std::to_string(k))];
+    EXPECT_EQ(g.body, model.GetBodyIndex("b_box"));
+  }
+  ASSERT_EQ(config.models.size(), 2u);
+  ASSERT_TRUE(config.models[1].options.box_inscribed_spheres.has_value());
+  EXPECT_EQ(config.models[1].options.box_inscribed_spheres->num_per_axis, 2);
+  EXPECT_FALSE(config.models[0].options.box_inscribed_spheres.has_value());
 }
 
 TEST(ConfigTest, Pendulum) {
@@ -542,6 +605,57 @@ TEST(ConfigErrorTest, Geometry) {
   EXPECT_THAT(
       Loading(scene_with("{name: b, shape: box, size: [1, 0, 1]}")),
       ThrowsMessage<FileError>(AllOf(HasSubstr("scene.geometry[0].size[1]"), HasSubstr("is 0"))));
+}
+
+TEST(ConfigErrorTest, InscribedSpheres) {
+  const auto scene_with = [](const std::string& geometry) {
+    return With("  models:", "  geometry:\n    - " + geometry + "\n  models:");
+  };
+  const std::string box = "{name: b, shape: box, size: [0.1, 0.1, 0.1], inscribed_spheres: ";
+  EXPECT_THAT(Loading(scene_with("{name: s, shape: sphere, radius: 0.1, inscribed_spheres: true}")),
+              ThrowsMessage<FileError>(AllOf(HasSubstr("scene.geometry[0].inscribed_spheres"),
+                                             HasSubstr("not used by shape sphere"),
+                                             HasSubstr("only with shape: box"))));
+  EXPECT_THAT(
+      Loading(scene_with(box + "maybe}")),
+      ThrowsMessage<FileError>(AllOf(HasSubstr("scene.geometry[0].inscribed_spheres"),
+                                     HasSubstr("'maybe'"), HasSubstr("true, false or a map"))));
+  EXPECT_THAT(Loading(scene_with(box + "[1, 2]}")),
+              ThrowsMessage<FileError>(AllOf(HasSubstr("scene.geometry[0].inscribed_spheres"),
+                                             HasSubstr("a list of 2 entries"))));
+  EXPECT_THAT(Loading(scene_with(box + "{radius_fraction: 0.7}}")),
+              ThrowsMessage<FileError>(
+                  AllOf(HasSubstr("scene.geometry[0].inscribed_spheres.radius_fraction"),
+                        HasSubstr("is 0.7"), HasSubstr("(0, 0.5]"))));
+  EXPECT_THAT(
+      Loading(scene_with(box + "{num_per_axis: 1}}")),
+      ThrowsMessage<FileError>(AllOf(HasSubstr("scene.geometry[0].inscribed_spheres.num_per_axis"),
+                                     HasSubstr("is 1"), HasSubstr("integer >= 2"))));
+  EXPECT_THAT(
+      Loading(scene_with(box + "{num_per_axis: 101}}")),
+      ThrowsMessage<FileError>(AllOf(HasSubstr("scene.geometry[0].inscribed_spheres.num_per_axis"),
+                                     HasSubstr("from 2 to 100"))));
+  EXPECT_THAT(
+      Loading(scene_with(box + "{centre_sphere: true}}")),
+      ThrowsMessage<FileError>(AllOf(HasSubstr("scene.geometry[0].inscribed_spheres.centre_sphere"),
+                                     HasSubstr("unknown key"), HasSubstr("center_sphere"))));
+  EXPECT_THAT(
+      Loading(scene_with(box + "{center_sphere: 3}}")),
+      ThrowsMessage<FileError>(AllOf(HasSubstr("scene.geometry[0].inscribed_spheres.center_sphere"),
+                                     HasSubstr("true or false"))));
+  EXPECT_THAT(
+      Loading(With("    - urdf: acrobot.urdf",
+                   "    - urdf: acrobot.urdf\n"
+                   "    - {urdf: box.urdf, base: floating, inscribed_spheres: "
+                   "{radius_fraction: 0}}")),
+      ThrowsMessage<FileError>(AllOf(HasSubstr("scene.models[1].inscribed_spheres.radius_fraction"),
+                                     HasSubstr("is 0"))));
+  // A sphere name that the replacement did not make is unknown to the contact filters.
+  EXPECT_THAT(Loading(With("  models:", "  geometry:\n    - " + box +
+                                            "true}\n  contact: {excluded_pairs: [[b, b_sphere8]]}"
+                                            "\n  models:")),
+              ThrowsMessage<FileError>(
+                  AllOf(HasSubstr("scene.contact.excluded_pairs[0][0]"), HasSubstr("'b'"))));
 }
 
 TEST(ConfigErrorTest, Contact) {

@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "idto/core/errors.hpp"
+#include "idto/geometry/signed_distance.hpp"
 #include "idto/multibody/algorithms/dynamics.hpp"
 #include "idto/multibody/algorithms/kinematics.hpp"
 #include "idto/multibody/data.hpp"
@@ -224,6 +225,53 @@ TEST(UrdfStructure, CollisionGeometry) {
   EXPECT_EQ(pendulum.geometries()[0].body, pendulum.GetBodyIndex("arm"));
 }
 
+/// Names of a model's geometries.
+std::vector<std::string> GeometryNames(const Model& model) {
+  std::vector<std::string> names;
+  for (const GeometryInstance& g : model.geometries()) names.push_back(g.name);
+  return names;
+}
+
+TEST(UrdfStructure, BoxInscribedSpheres) {
+  // With UrdfOptions::box_inscribed_spheres the box "probe" of mixed.urdf becomes its inscribed
+  // spheres "probe_sphere0".."probe_sphere8", posed in the link like the box; the other shapes
+  // (including the cylinder also named "probe", made "probe_1") stay as they are.
+  UrdfOptions options;
+  options.box_inscribed_spheres = InscribedSpheresOptions{};
+  const Model model = ParseUrdfFile(DataPath("mixed.urdf"), options);
+  ASSERT_EQ(model.geometries().size(), 3u + 9u);
+  EXPECT_THAT(GeometryNames(model), ::testing::Not(::testing::Contains("probe")));
+  EXPECT_THAT(GeometryNames(model), ::testing::Contains("probe_1"));
+  const std::vector<InscribedSphere> expected =
+      InscribedSpheres(Box{Eigen::Vector3d(0.01, 0.02, 0.03)});
+  ASSERT_EQ(expected.size(), 9u);
+  const Eigen::Isometry3d X_BBox = Pose(Eigen::Vector3d(0, 0, 0.05), Rpy(0.1, 0, 0));
+  for (std::size_t k = 0; k < expected.size(); ++k) {
+    SCOPED_TRACE(k);
+    const GeometryInstance& g =
+        model.geometries()[model.GetGeometryIndex("probe_sphere" + std::to_string(k))];
+    EXPECT_EQ(g.body, model.GetBodyIndex("sensor"));
+    ASSERT_TRUE(std::holds_alternative<Sphere>(g.shape));
+    EXPECT_DOUBLE_EQ(std::get<Sphere>(g.shape).radius, expected[k].sphere.radius);
+    EXPECT_EIGEN_NEAR(g.X_BG.matrix(), (X_BBox * expected[k].X_BoxSphere).matrix(), kTol);
+  }
+
+  // The paper's box (models/box.urdf) with a prefix and other options: 26 grid spheres.
+  options.base = BaseType::kFloating;
+  options.prefix = "p_";
+  options.box_inscribed_spheres = InscribedSpheresOptions{3, 0.2, false};
+  const Model box = ParseUrdfFile(ModelPath("box.urdf"), options);
+  ASSERT_EQ(box.geometries().size(), 26u);
+  EXPECT_EQ(box.geometries()[0].name, "p_box_sphere0");
+  EXPECT_EQ(box.geometries()[25].name, "p_box_sphere25");
+  EXPECT_DOUBLE_EQ(std::get<Sphere>(box.geometries()[0].shape).radius, 0.2 * 0.15);
+
+  // Without the option the box stays a box.
+  const Model plain = ParseUrdfFile(ModelPath("box.urdf"));
+  ASSERT_EQ(plain.geometries().size(), 1u);
+  EXPECT_TRUE(std::holds_alternative<Box>(plain.geometries()[0].shape));
+}
+
 TEST(UrdfStructure, InertialFrameRotation) {
   const Model model = ParseUrdfFile(DataPath("mixed.urdf"));
   const BodyInertia& rotor = model.body_inertia(model.GetBodyIndex("rotor"));
@@ -422,6 +470,49 @@ TEST(UrdfScene, AllModelsParse) {
     EXPECT_NO_THROW(ParseUrdfFile(ModelPath(name), options)) << name;
   }
   EXPECT_EQ(ParseUrdfFile(ModelPath("allegro_hand.urdf")).nv(), 16);
+}
+
+TEST(UrdfScene, JacoArmsAndBox) {
+  // models/jaco_arm.urdf: 7 DoFs, three collision spheres near the end effector; two of them and
+  // the box (floating, 9 inscribed spheres) make the 20-DoF bi-manual scene.
+  const Model arm = ParseUrdfFile(ModelPath("jaco_arm.urdf"));
+  EXPECT_EQ(arm.nq(), 7);
+  EXPECT_EQ(arm.nv(), 7);
+  EXPECT_THAT(GeometryNames(arm),
+              ::testing::UnorderedElementsAre("wrist_sphere", "palm_sphere", "finger_sphere"));
+  // Moving mass: links 1-6 and the hand (link 7), 5.33 kg.
+  double moving_mass = 0.0;
+  for (int i = 1; i <= 7; ++i) {
+    moving_mass += arm.body_mass(arm.GetBodyIndex("link" + std::to_string(i)));
+  }
+  EXPECT_NEAR(moving_mass, 0.7477 + 2 * 0.8447 + 0.6763 + 2 * 0.463 + 0.787, 1e-12);
+  // At q = 0 the arm stands straight up: the fingertip frame is D1 + D2 + D3 + D4 + D5 + D6 + D7
+  // above the base.
+  Data data(arm);
+  ForwardKinematics(arm, Eigen::VectorXd::Zero(7), Eigen::VectorXd::Zero(7), &data);
+  const FrameIndex ee = arm.GetFrameIndex("end_effector");
+  const Eigen::Isometry3d X_WE = data.X_WB(arm.frame_body(ee)) * arm.X_BF(ee);
+  EXPECT_EIGEN_NEAR(X_WE.translation(),
+                    Eigen::Vector3d(0, 0, 0.2755 + 0.41 + 0.2073 + 0.10375 + 0.10375 + 0.16),
+                    1e-12);
+
+  ModelBuilder builder("bimanual");
+  UrdfOptions left;
+  left.prefix = "left_";
+  UrdfOptions right;
+  right.prefix = "right_";
+  right.X_WB.translation() = Eigen::Vector3d(0, -0.8, 0);
+  UrdfOptions box;
+  box.base = BaseType::kFloating;
+  box.box_inscribed_spheres = InscribedSpheresOptions{};
+  AddUrdfFile(ModelPath("jaco_arm.urdf"), left, &builder);
+  AddUrdfFile(ModelPath("jaco_arm.urdf"), right, &builder);
+  AddUrdfFile(ModelPath("box.urdf"), box, &builder);
+  const Model scene = builder.Build();
+  EXPECT_EQ(scene.nv(), 20);
+  EXPECT_EQ(scene.nq(), 21);
+  EXPECT_EQ(scene.geometries().size(), 3u + 3u + 9u);
+  EXPECT_NEAR(scene.body_inertia(scene.GetBodyIndex("box")).mass, 0.55, 1e-15);
 }
 
 // ------------------------------------------------------------------------------------------------
@@ -663,6 +754,18 @@ TEST(UrdfErrors, BadOptions) {
   options.planar_normal.setZero();
   EXPECT_THROW(ParseUrdfFile(DataPath("pendulum.urdf"), options), InvalidArgument);
   EXPECT_THROW(AddUrdfFile(DataPath("pendulum.urdf"), {}, nullptr), InvalidArgument);
+}
+
+TEST(UrdfErrors, BadInscribedSpheresOptions) {
+  UrdfOptions options;
+  options.box_inscribed_spheres = InscribedSpheresOptions{2, 0.6, true};
+  EXPECT_THAT([&] { ParseUrdfFile(ModelPath("box.urdf"), options); },
+              ThrowsMessage<InvalidArgument>(
+                  AllOf(HasSubstr("box_inscribed_spheres"), HasSubstr("radius_fraction"))));
+  options.box_inscribed_spheres = InscribedSpheresOptions{1, 0.25, true};
+  EXPECT_THAT([&] { ParseUrdfFile(ModelPath("box.urdf"), options); },
+              ThrowsMessage<InvalidArgument>(
+                  AllOf(HasSubstr("box_inscribed_spheres"), HasSubstr("num_per_axis"))));
 }
 
 TEST(UrdfErrors, MovingRootWithoutMassNamesTheLink) {

@@ -54,7 +54,7 @@ std::string InitialGuessTypeName(InitialGuessType type);
 /// One URDF model of a scene, as the file gave it.
 struct SceneModelConfig {
   std::string urdf_file;  ///< resolved path of the URDF file
-  UrdfOptions options;    ///< base type, pose, planar normal, prefix
+  UrdfOptions options;    ///< base type, pose, planar normal, prefix, inscribed spheres
 };
 
 /// Everything a configuration file describes.

@@ -23,7 +23,8 @@
 ///    Sphere, Box and Cylinder with X_BG = the collision <origin>; meshes are skipped. A
 ///    geometry is named after its <collision name="...">, or "<link>_collision_<i>" with i the
 ///    position of the <collision> element in its link (counting skipped meshes); repeated names
-///    get "_1", "_2", ... appended.
+///    get "_1", "_2", ... appended. With UrdfOptions::box_inscribed_spheres, each box is
+///    replaced by its inscribed spheres, named "<geometry>_sphere<i>".
 ///  - Every body, joint, frame and geometry name gets UrdfOptions::prefix prepended.
 ///  - The root link is attached to the world as UrdfOptions says, by a joint named
 ///    prefix + root link + "_root_joint" (for example "ball_root_joint"). A root link named
@@ -41,12 +42,14 @@
 /// Thread safety: the functions may be called from several threads; the urdfdom part of a parse
 /// is serialized (console_bridge's output handler is global).
 
+#include <optional>
 #include <string>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
 #include "idto/core/types.hpp"
+#include "idto/geometry/signed_distance.hpp"
 #include "idto/multibody/joint.hpp"
 #include "idto/multibody/model.hpp"
 #include "idto/multibody/model_builder.hpp"
@@ -68,6 +71,14 @@ struct UrdfOptions {
   std::string prefix;
   /// Name of the model (used by ParseUrdf*; default: the URDF's robot name).
   std::string model_name;
+  /// When set, every <box> collision is replaced by the spheres that
+  /// InscribedSpheres(box, *box_inscribed_spheres) places inside it (sharp corners make the
+  /// contact normal jump, which spoils finite differences: the paper's Remark on collision
+  /// geometries). The spheres keep the box's link
+  /// and pose, and are named "<geometry>_sphere<i>" (prefix included), i = 0, 1, ... in the
+  /// order InscribedSpheres returns them (the centre sphere last). Invalid options
+  /// (num_per_axis < 2 or > 100, radius_fraction outside (0, 0.5]) throw InvalidArgument.
+  std::optional<InscribedSpheresOptions> box_inscribed_spheres;
 };
 
 /// Parses a URDF file into a Model. Throws FileError naming the file and the element (link or

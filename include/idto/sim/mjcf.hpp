@@ -55,6 +55,15 @@
 
 namespace idto {
 
+/// An explicit MuJoCo contact pair: `<pair geom1=... geom2=... friction="mu mu 0.005 0.0001
+/// 0.0001"/>` in `<contact>` (condim 3). MuJoCo collides explicit pairs whatever the geoms'
+/// contype/conaffinity.
+struct MjcfContactPair {
+  GeometryIndex geometry_a{0};  ///< index into Model::geometries()
+  GeometryIndex geometry_b{0};
+  double friction_coefficient{1.0};  ///< sliding friction (>= 0)
+};
+
 /// Options of MakeMjcf. The defaults describe the same dynamics as idto (no contact solver
 /// quirks added): geometry included, contacts enabled, no limits and no actuators.
 struct MjcfOptions {
@@ -88,6 +97,9 @@ struct MjcfOptions {
   bool diagonalize_inertia{true};
   /// `model` attribute of `<mujoco>`; empty: the Model's name.
   std::string model_name;
+  /// Explicit contact pairs (needs include_geometry). To collide exactly these pairs and no
+  /// others, set contype = conaffinity = 0. Empty by default.
+  std::vector<MjcfContactPair> contact_pairs;
 
   /// True when the options are usable; otherwise writes the reason to `why` (if not null).
   bool IsValid(std::string* why = nullptr) const;

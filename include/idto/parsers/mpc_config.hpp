@@ -1,0 +1,41 @@
+#pragma once
+
+/// @file
+/// The `mpc:` section of an example configuration (see docs/config.md): controller rate,
+/// iterations per step, PD+ gains, relative nominal coordinates, the plant and its options,
+/// disturbances, and the closed-loop duration.
+
+#include <string>
+
+#include "idto/mpc/closed_loop.hpp"
+#include "idto/mpc/controller.hpp"
+#include "idto/parsers/config.hpp"
+#include "idto/sim/plant.hpp"
+
+namespace idto {
+
+/// Everything `idto-run NAME --mpc` needs beyond the open-loop problem.
+struct MpcConfig {
+  mpc::MpcOptions controller;          ///< rate, iterations, gains, relative positions
+  mpc::ClosedLoopOptions closed_loop;  ///< duration, plant step, latency, disturbances
+  std::string plant{"mujoco"};         ///< "mujoco" (when built with it) or "builtin"
+  sim::BuiltinPlantOptions builtin;    ///< builtin plant: contact law (stiff), time step
+  sim::MujocoPlantOptions mujoco;      ///< MuJoCo plant: friction, time step
+  int initial_iterations{50};          ///< iterations of the cold-start solve before t = 0
+};
+
+/// Parses config.mpc (YAML text). Keys (all optional):
+///   control_rate (Hz, default 100), iterations_per_step (1), duration (s, 5),
+///   initial_iterations (50), plant (mujoco|builtin; default mujoco when available),
+///   plant_time_step (s, 1e-3), latency (solve_time|control_period),
+///   kp, kd: a number for every actuated DoF, a list of nv, or {default: x, joint: value},
+///   relative: [joint names] whose position coordinates keep their nominal offsets,
+///   builtin_contact: {stiffness, smoothing, dissipation_velocity, friction_coefficient,
+///                     stiction_velocity},
+///   mujoco_friction (default: the scene's friction coefficient),
+///   disturbances: [{body, start, duration, force: [fx, fy, fz]}].
+/// Errors are FileError naming config.source_file, the key path "mpc.<key>", the value and what
+/// was expected. The plant's pair filters come from the scene's contact options.
+MpcConfig ParseMpcConfig(const ExampleConfig& config);
+
+}  // namespace idto

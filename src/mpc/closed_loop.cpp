@@ -1,0 +1,129 @@
+#include "idto/mpc/closed_loop.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "idto/core/errors.hpp"
+
+namespace idto::mpc {
+
+double ClosedLoopLog::mean_solve_time() const {
+  if (solve_time.empty()) return 0.0;
+  double s = 0.0;
+  for (double x : solve_time) s += x;
+  return s / static_cast<double>(solve_time.size());
+}
+
+double ClosedLoopLog::max_solve_time() const {
+  return solve_time.empty() ? 0.0 : *std::max_element(solve_time.begin(), solve_time.end());
+}
+
+double ClosedLoopLog::percentile_solve_time(double p) const {
+  if (solve_time.empty()) return 0.0;
+  std::vector<double> s = solve_time;
+  std::sort(s.begin(), s.end());
+  const double rank = std::clamp(p, 0.0, 100.0) / 100.0 * static_cast<double>(s.size() - 1);
+  const size_t lo = static_cast<size_t>(std::floor(rank));
+  const size_t hi = std::min(lo + 1, s.size() - 1);
+  return s[lo] + (rank - static_cast<double>(lo)) * (s[hi] - s[lo]);
+}
+
+double ClosedLoopLog::fraction_on_time() const {
+  if (solve_time.empty()) return 1.0;
+  int n = 0;
+  for (double x : solve_time) n += x <= control_period ? 1 : 0;
+  return static_cast<double>(n) / static_cast<double>(solve_time.size());
+}
+
+std::string ClosedLoopLog::ToCsv(const Model& model) const {
+  std::ostringstream out;
+  out.precision(10);
+  out << "t";
+  for (int i = 0; i < model.nq(); ++i) out << ",q_" << model.position_name(i) << "_" << i;
+  for (int i = 0; i < model.nv(); ++i) out << ",v_" << model.velocity_name(i) << "_" << i;
+  for (int i = 0; i < model.nv(); ++i) out << ",u_" << model.velocity_name(i) << "_" << i;
+  for (int b = 0; b < model.num_bodies(); ++b) out << ",contact_" << model.body_name(b);
+  out << "\n";
+  for (size_t k = 0; k < t.size(); ++k) {
+    out << t[k];
+    for (int i = 0; i < q[k].size(); ++i) out << "," << q[k](i);
+    for (int i = 0; i < v[k].size(); ++i) out << "," << v[k](i);
+    for (int i = 0; i < u[k].size(); ++i) out << "," << u[k](i);
+    for (int i = 0; i < contact[k].size(); ++i) out << "," << contact[k](i);
+    out << "\n";
+  }
+  return out.str();
+}
+
+ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options,
+                            Controller* controller, sim::Plant* plant) {
+  static constexpr const char* kWhere = "RunClosedLoop";
+  CheckPositive(kWhere, "options.duration", options.duration);
+  CheckPositive(kWhere, "options.plant_time_step", options.plant_time_step);
+  if (options.log_every < 1) {
+    ThrowInvalidArgument(kWhere, "options.log_every", std::to_string(options.log_every),
+                         "at least 1");
+  }
+  using Clock = std::chrono::steady_clock;
+  ClosedLoopLog log;
+  const double period = 1.0 / controller->options().control_rate;
+  log.control_period = period;
+  const double dt = options.plant_time_step;
+  const long steps = static_cast<long>(std::llround(options.duration / dt));
+  const long steps_per_replan = std::max(1L, static_cast<long>(std::llround(period / dt)));
+
+  // The plan in force, and the one waiting for its activation time (latency model).
+  Plan active = controller->plan();
+  Plan pending;
+  double pending_at = -1.0;
+  PdGains gains = controller->options().gains;
+  if (gains.Kp.size() == 0) gains.Kp = Eigen::VectorXd::Zero(model.nv());
+  if (gains.Kd.size() == 0) gains.Kd = Eigen::VectorXd::Zero(model.nv());
+  const PdController pd(model, controller->options().actuated, gains);
+  Eigen::VectorXd q_d, v_d, u_ff, u = Eigen::VectorXd::Zero(model.nv());
+
+  for (long step = 0; step < steps; ++step) {
+    const double t = step * dt;
+    if (step % steps_per_replan == 0 && step > 0) {
+      const Clock::time_point t0 = Clock::now();
+      const SolverSummary s = controller->Replan(t, plant->q(), plant->v());
+      const double solve = std::chrono::duration<double>(Clock::now() - t0).count();
+      log.replan_time.push_back(t);
+      log.solve_time.push_back(solve);
+      log.solve_status.push_back(static_cast<int>(s.termination));
+      if (s.termination != TerminationType::kFailure) {
+        pending = controller->plan();
+        pending_at =
+            t + (options.latency == LatencyModel::kSolveTime ? std::max(solve, dt) : period);
+      }
+    }
+    if (pending_at >= 0.0 && t + 1e-12 >= pending_at) {
+      active = pending;
+      pending_at = -1.0;
+    }
+    active.Sample(model, t, &q_d, &v_d, &u_ff);
+    pd.Compute(plant->q(), plant->v(), q_d, v_d, u_ff, &u);
+    int body = -1;
+    Eigen::Vector3d f = Eigen::Vector3d::Zero();
+    for (const Disturbance& d : options.disturbances) {
+      if (d.body >= 0 && t >= d.start && t < d.start + d.duration) {
+        body = d.body;
+        f += d.force_W;
+      }
+    }
+    if (step % options.log_every == 0) {
+      log.t.push_back(t);
+      log.q.push_back(plant->q());
+      log.v.push_back(plant->v());
+      log.u.push_back(u);
+      log.contact.push_back(plant->contact_force_per_body());
+    }
+    plant->Advance(dt, u, body, f);
+  }
+  log.num_rejected_plans = controller->num_rejected_plans();
+  return log;
+}
+
+}  // namespace idto::mpc

@@ -1,0 +1,55 @@
+#pragma once
+
+// Helpers shared by the plants (not installed).
+
+#include <cmath>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "idto/core/errors.hpp"
+#include "idto/multibody/model.hpp"
+
+namespace idto::sim::internal {
+
+/// The plant's clock in whole steps of size h. Advance(duration) adds to the requested time and
+/// returns the number of steps that bring the clock to the step nearest to it, so that the
+/// clock stays within half a step of the sum of the requested durations whatever they are
+/// (e.g. a 1/60 s control period on 1 ms steps: 17, 17, 16, 17, 17, 16, ... steps).
+class StepClock {
+ public:
+  explicit StepClock(double h) : h_(h) {}
+
+  void Reset() {
+    steps_ = 0;
+    requested_ = 0.0;
+  }
+
+  long Advance(const char* where, double duration) {
+    CheckNonNegative(where, "duration", duration);
+    requested_ += duration;
+    const long target = std::lround(requested_ / h_);
+    return target > steps_ ? target - steps_ : 0;
+  }
+
+  void CountStep() { ++steps_; }
+  double time() const { return static_cast<double>(steps_) * h_; }
+
+ private:
+  double h_;
+  long steps_{0};
+  double requested_{0.0};
+};
+
+/// Checks Plant::Advance's disturbance arguments: body -1 (none) or a body index, finite force.
+inline void CheckDisturbance(const char* where, const Model& model, int disturbed_body,
+                             const Eigen::Vector3d& f_ext_W) {
+  if (disturbed_body < -1 || disturbed_body >= model.num_bodies()) {
+    ThrowInvalidArgument(
+        where, "disturbed_body", std::to_string(disturbed_body),
+        "-1 (none) or a body index in [0, " + std::to_string(model.num_bodies()) + ")");
+  }
+  CheckFinite(where, "f_ext_W", f_ext_W);
+}
+
+}  // namespace idto::sim::internal
