@@ -1,0 +1,88 @@
+// Time per solver iteration of every example (examples/<name>/<name>.yaml), forward
+// differences, as configured in its file, 1 and 2 threads, penalty and Lagrange multipliers.
+//
+// Each benchmark iteration is one solver iteration (SolveWarmStart, max_iterations = 1,
+// fixed_iterations) from the example's initial guess after 5 warm-up iterations; the cost
+// re-evaluation at the start of each call is included. Counters: the per-phase breakdown in µs.
+// Names: "examples/<name>/<penalty|lagrange>/threads:<T>".
+
+#include <string>
+#include <vector>
+
+#include <benchmark/benchmark.h>
+
+#include "idto/idto.hpp"
+
+namespace {
+
+void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool lagrange) {
+  const int threads = static_cast<int>(state.range(0));
+  idto::ExampleConfig config;
+  try {
+    const std::string dir = std::string(IDTO_SOURCE_DIR);
+    config = idto::LoadExampleConfig(dir + "/examples/" + name + "/" + name + ".yaml", {dir});
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  idto::SolverOptions o = config.solver;
+  o.num_threads = threads;
+  o.constraint_method = lagrange ? idto::ConstraintMethod::kLagrangeMultipliers
+                                 : idto::ConstraintMethod::kPenalty;
+  o.max_iterations = 5;
+  o.fixed_iterations = true;
+  idto::TrajectoryOptimizer opt(config.model, config.problem, o);
+  idto::Trajectory sol;
+  opt.Solve(idto::MakeInitialGuess(config), &sol);  // warm-up: past the first iterations
+  opt.mutable_options().max_iterations = 1;
+  double t_deriv = 0, t_hess = 0, t_fact = 0, t_mult = 0, t_cost = 0;
+  int64_t n = 0;
+  for (auto _ : state) {
+    const idto::SolverSummary s = opt.SolveWarmStart(&sol);
+    if (s.log.empty()) {
+      state.SkipWithError(("no iteration: " + s.message).c_str());
+      break;
+    }
+    const idto::IterationSummary& it = s.log.back();
+    t_deriv += it.time_derivatives;
+    t_hess += it.time_hessian;
+    t_fact += it.time_factorization;
+    t_mult += it.time_multipliers;
+    t_cost += it.time_cost;
+    ++n;
+  }
+  if (n > 0) {
+    const double us = 1e6 / static_cast<double>(n);
+    state.counters["derivatives_us"] = t_deriv * us;
+    state.counters["hessian_us"] = t_hess * us;
+    state.counters["factorization_us"] = t_fact * us;
+    state.counters["multipliers_us"] = t_mult * us;
+    state.counters["trial_cost_us"] = t_cost * us;
+  }
+  state.counters["nq"] = config.model.nq();
+  state.counters["N"] = config.problem.num_steps;
+}
+
+void Register() {
+  for (const std::string name :
+       {"pendulum", "acrobot", "spinner", "hopper", "quadruped", "quadruped_hills", "allegro",
+        "bimanual", "bimanual_lift", "bimanual_balance"}) {
+    for (bool lagrange : {false, true}) {
+      if (name == "pendulum" && lagrange) continue;
+      const std::string bench = "examples/" + name + "/" + (lagrange ? "lagrange" : "penalty");
+      benchmark::RegisterBenchmark(bench.c_str(),
+                                   [name, lagrange](benchmark::State& s) {
+                                     BM_ExampleIteration(s, name, lagrange);
+                                   })
+          ->ArgName("threads")
+          ->Arg(1)
+          ->Arg(2)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
+  }
+}
+
+const bool kRegistered = (Register(), true);
+
+}  // namespace
