@@ -1,5 +1,6 @@
 #include "idto/solver/penta_diagonal_matrix.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Cholesky>
@@ -186,6 +187,28 @@ void PentaDiagonalCholesky::SolveInPlace(Eigen::MatrixXd* B) const {
       Xk.noalias() -= L2_[k + 2].transpose() * X.middleRows((k + 2) * n, n);
     }
     L0_[k].triangularView<Eigen::Lower>().transpose().solveInPlace(Xk);
+  }
+}
+
+void PentaDiagonalCholesky::SolveLowerInPlace(Eigen::Ref<Eigen::MatrixXd> B,
+                                              int first_block) const {
+  const int n = block_size_;
+  for (int k = std::max(first_block, 0); k < num_blocks_; ++k) {
+    auto Xk = B.middleRows(k * n, n);
+    if (k - 1 >= first_block) Xk.noalias() -= L1_[k] * B.middleRows((k - 1) * n, n);
+    if (k - 2 >= first_block) Xk.noalias() -= L2_[k] * B.middleRows((k - 2) * n, n);
+    L0_[k].triangularView<Eigen::Lower>().solveInPlace(Xk);
+  }
+}
+
+void PentaDiagonalCholesky::SolveLowerInPlace(Eigen::VectorXd* b) const {
+  const int n = block_size_;
+  Eigen::VectorXd& x = *b;
+  for (int k = 0; k < num_blocks_; ++k) {
+    auto xk = x.segment(k * n, n);
+    if (k >= 1) xk.noalias() -= L1_[k] * x.segment((k - 1) * n, n);
+    if (k >= 2) xk.noalias() -= L2_[k] * x.segment((k - 2) * n, n);
+    L0_[k].triangularView<Eigen::Lower>().solveInPlace(xk);
   }
 }
 

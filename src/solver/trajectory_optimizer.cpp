@@ -541,11 +541,17 @@ class TrajectoryOptimizer::Impl {
         merit = cost;
         if (lagrange) {
           // lambda = (A H^-1 A^T)^-1 (h - A H^-1 g), with H factored once.
+          // With H = L L^T and Y = L^-1 A^T: A H^-1 A^T = Y^T Y and A H^-1 g = Y^T (L^-1 g), so
+          // only forward substitutions are needed, and those skip each constraint column's
+          // leading zero blocks (the rows of tau_j only involve q_{j-1}, q_j, q_{j+1}).
           CalcConstraints(&h_, &At_);
-          HinvAt_ = At_;
-          chol_.SolveInPlace(&HinvAt_);
-          S_.noalias() = At_.transpose() * HinvAt_;
-          S_llt_.compute(S_);
+          HinvAt_ = At_;  // becomes Y
+          for (int j = 0; j < N_; ++j) {
+            chol_.SolveLowerInPlace(HinvAt_.middleCols(j * nu_, nu_), std::max(j - 2, 0));
+          }
+          S_.setZero();
+          S_.selfadjointView<Eigen::Lower>().rankUpdate(HinvAt_.transpose());
+          S_llt_.compute(S_);  // reads the lower triangle only
           if (S_llt_.info() != Eigen::Success) {
             summary.termination = TerminationType::kFailure;
             summary.message =
@@ -554,9 +560,9 @@ class TrajectoryOptimizer::Impl {
             break;
           }
           work_ = g_;
-          chol_.SolveInPlace(&work_);
+          chol_.SolveLowerInPlace(&work_);  // L^-1 g
           lambda_ = h_;
-          lambda_.noalias() -= At_.transpose() * work_;
+          lambda_.noalias() -= HinvAt_.transpose() * work_;
           S_llt_.solveInPlace(lambda_);
           g_merit_.noalias() += At_ * lambda_;
           merit = cost + h_.dot(lambda_);

@@ -78,6 +78,31 @@ TEST(PentaDiagonal, CholeskySolvesLikeDenseUpToConditionNumber1e12) {
   }
 }
 
+TEST(PentaDiagonal, ForwardSolveGivesTheEnergyNormAndSkipsLeadingZeroBlocks) {
+  test::Random rng(5);
+  const int N = 12, n = 3;
+  const PentaDiagonalMatrix H = RandomSpd(N, n, 1e4, &rng);
+  PentaDiagonalCholesky chol(N, n);
+  chol.compute(H);
+  ASSERT_EQ(chol.info(), PentaDiagonalCholesky::Info::kSuccess);
+  const Eigen::MatrixXd D = H.MakeDense();
+  // |L^-1 b|^2 = b^T H^-1 b, whatever the factor.
+  Eigen::VectorXd b = rng.Vector(N * n);
+  Eigen::VectorXd y = b;
+  chol.SolveLowerInPlace(&y);
+  EXPECT_NEAR(y.squaredNorm(), b.dot(D.llt().solve(b)), 1e-10 * y.squaredNorm());
+  // Columns that are zero above block 5: starting there gives the full forward solve.
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(N * n, 4);
+  B.bottomRows((N - 5) * n) = rng.Matrix((N - 5) * n, 4);
+  Eigen::MatrixXd full = B, skipped = B;
+  chol.SolveLowerInPlace(full, 0);
+  chol.SolveLowerInPlace(skipped.middleCols(0, 4), 5);
+  EXPECT_EIGEN_NEAR(skipped, full, 1e-13);
+  // Y^T Y = B^T H^-1 B (the multiplier step's Schur complement).
+  EXPECT_EIGEN_NEAR(Eigen::MatrixXd(full.transpose() * full),
+                    Eigen::MatrixXd(B.transpose() * D.llt().solve(B)), 1e-9);
+}
+
 TEST(PentaDiagonal, IndefiniteMatricesReportTheFailedBlock) {
   test::Random rng(3);
   PentaDiagonalMatrix H = RandomSpd(5, 2, 10.0, &rng);

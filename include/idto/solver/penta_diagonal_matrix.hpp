@@ -67,6 +67,13 @@ class PentaDiagonalCholesky {
   /// Solves H X = B in place for several right-hand sides (B: N n x m).
   void SolveInPlace(Eigen::MatrixXd* B) const;
 
+  /// Forward substitution only: solves L Y = B in place (B: N n x m, any column block of a
+  /// matrix). Rows above block `first_block` must be zero in B; they stay zero and are skipped
+  /// (the Lagrange-multiplier step uses this: each constraint column is zero before its step).
+  void SolveLowerInPlace(Eigen::Ref<Eigen::MatrixXd> B, int first_block = 0) const;
+  /// Forward substitution L y = b in place (b: N n).
+  void SolveLowerInPlace(Eigen::VectorXd* b) const;
+
  private:
   int num_blocks_{0};
   int block_size_{0};
