@@ -360,6 +360,18 @@ class JsonWriter {
   bool empty_{true};
 };
 
+/// The task measures as the members of a JSON object (the caller opens and closes it).
+void WriteMetrics(const idto::examples::TaskResult& task, JsonWriter* json) {
+  for (const idto::examples::Metric& metric : task.metrics) {
+    json->Key(metric.name);
+    if (metric.is_array || metric.values.size() != 1) {
+      json->NumberArray(metric.values);
+    } else {
+      json->Number(metric.values[0]);
+    }
+  }
+}
+
 std::string MakeSummaryJson(const ExampleConfig& config, const std::string& config_path,
                             const idto::SolverOptions& options, const SolverSummary& summary,
                             const Trajectory& solution, const idto::examples::TaskResult& task) {
@@ -405,14 +417,7 @@ std::string MakeSummaryJson(const ExampleConfig& config, const std::string& conf
   json.NumberArray(solution.v.back());
   json.Key("metrics");
   json.BeginObject();
-  for (const idto::examples::Metric& metric : task.metrics) {
-    json.Key(metric.name);
-    if (metric.is_array || metric.values.size() != 1) {
-      json.NumberArray(metric.values);
-    } else {
-      json.Number(metric.values[0]);
-    }
-  }
+  WriteMetrics(task, &json);
   json.EndObject();
   json.Key("task_success");
   json.Bool(task.task_success);
@@ -535,6 +540,22 @@ std::string FormatVector(const Eigen::VectorXd& x) {
   return out.str();
 }
 
+/// Prints the task measures and task_success (the result section of both modes).
+void PrintTask(const idto::examples::TaskResult& task) {
+  for (const idto::examples::Metric& metric : task.metrics) {
+    std::cout << "  " << metric.name << ": ";
+    if (metric.is_array || metric.values.size() != 1) {
+      std::cout << FormatVector(Eigen::Map<const Eigen::VectorXd>(
+          metric.values.data(), static_cast<Eigen::Index>(metric.values.size())));
+    } else {
+      std::cout << JsonWriter::FormatNumber(metric.values[0]);
+    }
+    std::cout << "\n";
+  }
+  std::cout << "  task_success: " << (task.task_success ? "true" : "false") << " ("
+            << task.criterion << ")\n";
+}
+
 int Run(const Arguments& args, const char* argv0) {
   std::vector<std::string> share_dirs =
       idto::DefaultShareDirs(IDTO_SOURCE_SHARE_DIR, ExecutablePath(argv0));
@@ -595,18 +616,7 @@ int Run(const Arguments& args, const char* argv0) {
             << "  solve time: " << summary.solve_time << " s (mean "
             << 1e3 * summary.mean_iteration_time() << " ms per iteration)\n"
             << "  q_N: " << FormatVector(solution.q.back()) << "\n";
-  for (const idto::examples::Metric& metric : task.metrics) {
-    std::cout << "  " << metric.name << ": ";
-    if (metric.is_array || metric.values.size() != 1) {
-      std::cout << FormatVector(Eigen::Map<const Eigen::VectorXd>(
-          metric.values.data(), static_cast<Eigen::Index>(metric.values.size())));
-    } else {
-      std::cout << JsonWriter::FormatNumber(metric.values[0]);
-    }
-    std::cout << "\n";
-  }
-  std::cout << "  task_success: " << (task.task_success ? "true" : "false") << " ("
-            << task.criterion << ")\n";
+  PrintTask(task);
 
   if (!args.summary_json.empty()) {
     WriteFile(args.summary_json,
@@ -683,18 +693,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
             << 1e3 * log.max_solve_time() << " ms; period " << 1e3 * log.control_period
             << " ms; on time " << 100.0 * log.fraction_on_time() << " %\n"
             << "  q_final: " << FormatVector(plant->q()) << "\n";
-  for (const idto::examples::Metric& metric : task.metrics) {
-    std::cout << "  " << metric.name << ": ";
-    if (metric.is_array || metric.values.size() != 1) {
-      std::cout << FormatVector(Eigen::Map<const Eigen::VectorXd>(
-          metric.values.data(), static_cast<Eigen::Index>(metric.values.size())));
-    } else {
-      std::cout << JsonWriter::FormatNumber(metric.values[0]);
-    }
-    std::cout << "\n";
-  }
-  std::cout << "  task_success: " << (task.task_success ? "true" : "false") << " ("
-            << task.criterion << ")\n";
+  PrintTask(task);
   if (!args.summary_json.empty()) {
     JsonWriter json;
     json.BeginObject();
@@ -742,14 +741,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
     json.Number(log.fraction_on_time());
     json.Key("metrics");
     json.BeginObject();
-    for (const idto::examples::Metric& metric : task.metrics) {
-      json.Key(metric.name);
-      if (metric.is_array || metric.values.size() != 1) {
-        json.NumberArray(metric.values);
-      } else {
-        json.Number(metric.values[0]);
-      }
-    }
+    WriteMetrics(task, &json);
     json.EndObject();
     json.Key("task_success");
     json.Bool(task.task_success);

@@ -150,66 +150,60 @@ PentaDiagonalCholesky& PentaDiagonalCholesky::compute(const PentaDiagonalMatrix&
   return *this;
 }
 
-void PentaDiagonalCholesky::SolveInPlace(Eigen::VectorXd* b) const {
-  const int n = block_size_;
-  Eigen::VectorXd& x = *b;
-  // Forward: L y = b.
-  for (int k = 0; k < num_blocks_; ++k) {
-    auto xk = x.segment(k * n, n);
-    if (k >= 1) xk.noalias() -= L1_[k] * x.segment((k - 1) * n, n);
-    if (k >= 2) xk.noalias() -= L2_[k] * x.segment((k - 2) * n, n);
-    L0_[k].triangularView<Eigen::Lower>().solveInPlace(xk);
-  }
-  // Backward: L^T x = y.
-  for (int k = num_blocks_ - 1; k >= 0; --k) {
-    auto xk = x.segment(k * n, n);
-    if (k + 1 < num_blocks_) xk.noalias() -= L1_[k + 1].transpose() * x.segment((k + 1) * n, n);
-    if (k + 2 < num_blocks_) xk.noalias() -= L2_[k + 2].transpose() * x.segment((k + 2) * n, n);
-    L0_[k].triangularView<Eigen::Lower>().transpose().solveInPlace(xk);
+namespace {
+
+// L Y = B in place (forward substitution), rows above `first` known to be zero and skipped.
+// X: a vector or a matrix (any block of columns).
+template <typename X>
+void ForwardSubstitution(const std::vector<Eigen::MatrixXd>& L0,
+                         const std::vector<Eigen::MatrixXd>& L1,
+                         const std::vector<Eigen::MatrixXd>& L2, int n, int first, X&& x) {
+  const int num_blocks = static_cast<int>(L0.size());
+  for (int k = std::max(first, 0); k < num_blocks; ++k) {
+    auto xk = x.middleRows(k * n, n);
+    if (k - 1 >= first) xk.noalias() -= L1[k] * x.middleRows((k - 1) * n, n);
+    if (k - 2 >= first) xk.noalias() -= L2[k] * x.middleRows((k - 2) * n, n);
+    L0[k].template triangularView<Eigen::Lower>().solveInPlace(xk);
   }
 }
 
+// L^T X = Y in place (backward substitution).
+template <typename X>
+void BackwardSubstitution(const std::vector<Eigen::MatrixXd>& L0,
+                          const std::vector<Eigen::MatrixXd>& L1,
+                          const std::vector<Eigen::MatrixXd>& L2, int n, X&& x) {
+  const int num_blocks = static_cast<int>(L0.size());
+  for (int k = num_blocks - 1; k >= 0; --k) {
+    auto xk = x.middleRows(k * n, n);
+    if (k + 1 < num_blocks) {
+      xk.noalias() -= L1[k + 1].transpose() * x.middleRows((k + 1) * n, n);
+    }
+    if (k + 2 < num_blocks) {
+      xk.noalias() -= L2[k + 2].transpose() * x.middleRows((k + 2) * n, n);
+    }
+    L0[k].template triangularView<Eigen::Lower>().transpose().solveInPlace(xk);
+  }
+}
+
+}  // namespace
+
+void PentaDiagonalCholesky::SolveInPlace(Eigen::VectorXd* b) const {
+  ForwardSubstitution(L0_, L1_, L2_, block_size_, 0, *b);
+  BackwardSubstitution(L0_, L1_, L2_, block_size_, *b);
+}
+
 void PentaDiagonalCholesky::SolveInPlace(Eigen::MatrixXd* B) const {
-  const int n = block_size_;
-  Eigen::MatrixXd& X = *B;
-  for (int k = 0; k < num_blocks_; ++k) {
-    auto Xk = X.middleRows(k * n, n);
-    if (k >= 1) Xk.noalias() -= L1_[k] * X.middleRows((k - 1) * n, n);
-    if (k >= 2) Xk.noalias() -= L2_[k] * X.middleRows((k - 2) * n, n);
-    L0_[k].triangularView<Eigen::Lower>().solveInPlace(Xk);
-  }
-  for (int k = num_blocks_ - 1; k >= 0; --k) {
-    auto Xk = X.middleRows(k * n, n);
-    if (k + 1 < num_blocks_) {
-      Xk.noalias() -= L1_[k + 1].transpose() * X.middleRows((k + 1) * n, n);
-    }
-    if (k + 2 < num_blocks_) {
-      Xk.noalias() -= L2_[k + 2].transpose() * X.middleRows((k + 2) * n, n);
-    }
-    L0_[k].triangularView<Eigen::Lower>().transpose().solveInPlace(Xk);
-  }
+  ForwardSubstitution(L0_, L1_, L2_, block_size_, 0, *B);
+  BackwardSubstitution(L0_, L1_, L2_, block_size_, *B);
 }
 
 void PentaDiagonalCholesky::SolveLowerInPlace(Eigen::Ref<Eigen::MatrixXd> B,
                                               int first_block) const {
-  const int n = block_size_;
-  for (int k = std::max(first_block, 0); k < num_blocks_; ++k) {
-    auto Xk = B.middleRows(k * n, n);
-    if (k - 1 >= first_block) Xk.noalias() -= L1_[k] * B.middleRows((k - 1) * n, n);
-    if (k - 2 >= first_block) Xk.noalias() -= L2_[k] * B.middleRows((k - 2) * n, n);
-    L0_[k].triangularView<Eigen::Lower>().solveInPlace(Xk);
-  }
+  ForwardSubstitution(L0_, L1_, L2_, block_size_, first_block, B);
 }
 
 void PentaDiagonalCholesky::SolveLowerInPlace(Eigen::VectorXd* b) const {
-  const int n = block_size_;
-  Eigen::VectorXd& x = *b;
-  for (int k = 0; k < num_blocks_; ++k) {
-    auto xk = x.segment(k * n, n);
-    if (k >= 1) xk.noalias() -= L1_[k] * x.segment((k - 1) * n, n);
-    if (k >= 2) xk.noalias() -= L2_[k] * x.segment((k - 2) * n, n);
-    L0_[k].triangularView<Eigen::Lower>().solveInPlace(xk);
-  }
+  ForwardSubstitution(L0_, L1_, L2_, block_size_, 0, *b);
 }
 
 }  // namespace idto
