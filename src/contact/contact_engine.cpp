@@ -281,7 +281,62 @@ ContactData ContactEngine::MakeData(const Model& model) const {
   data.results.resize(pairs_.size());
   data.F_ext = BodyForces::Zero(6, model.num_bodies());
   data.candidates.reserve(pairs_.size());
+  data.result_of_pair.assign(pairs_.size(), -1);
   return data;
+}
+
+bool ContactEngine::EvaluatePair(const Model& model, const Data& data, int i,
+                                 ContactResult* r) const {
+  const std::vector<GeometryInstance>& geos = model.geometries();
+  const ContactPair& pair = pairs_[i];
+  const GeometryInstance& ga = geos[pair.geometry_a];
+  const GeometryInstance& gb = geos[pair.geometry_b];
+  const RigidTransform& X_WA = data.pose(pair.body_a);
+  const RigidTransform& X_WB = data.pose(pair.body_b);
+  if (pair.cutoff_distance < kInf) {
+    // A lower bound on phi from bounding spheres (B is never a half-space).
+    const Eigen::Vector3d c_B = X_WB * bound_center_B_[pair.geometry_b];
+    double lower_bound;
+    if (IsHalfSpace(ga.shape)) {
+      const Eigen::Vector3d n_W = X_WA.R * ga.X_BG.linear().col(2);
+      const Eigen::Vector3d p_W = X_WA * Eigen::Vector3d(ga.X_BG.translation());
+      lower_bound = n_W.dot(c_B - p_W) - bound_radius_[pair.geometry_b];
+    } else {
+      const Eigen::Vector3d c_A = X_WA * bound_center_B_[pair.geometry_a];
+      lower_bound =
+          (c_B - c_A).norm() - bound_radius_[pair.geometry_a] - bound_radius_[pair.geometry_b];
+    }
+    if (lower_bound > pair.cutoff_distance) return false;
+  }
+  const Eigen::Isometry3d X_WGa = data.X_WB(pair.body_a) * ga.X_BG;
+  const Eigen::Isometry3d X_WGb = data.X_WB(pair.body_b) * gb.X_BG;
+  const SignedDistanceResult sd = SignedDistance(ga.shape, X_WGa, gb.shape, X_WGb);
+  r->pair = i;
+  r->phi = sd.distance;
+  r->normal_W = sd.normal_W;
+  r->exact = sd.exact;
+  r->p_WC = 0.5 * (sd.p_WA + sd.p_WB);
+  // Velocity of C moving with B relative to C moving with A.
+  const Eigen::Vector3d v_WCb =
+      data.v_WBo(pair.body_b) + data.w_WB(pair.body_b).cross(r->p_WC - X_WB.p);
+  const Eigen::Vector3d v_WCa =
+      data.v_WBo(pair.body_a) + data.w_WB(pair.body_a).cross(r->p_WC - X_WA.p);
+  const Eigen::Vector3d v_c = v_WCb - v_WCa;
+  r->vn = r->normal_W.dot(v_c);
+  r->vt = v_c - r->vn * r->normal_W;
+  r->force = CalcContactForce(pair.parameters, r->phi, r->vn, r->vt, r->normal_W);
+  return true;
+}
+
+void ContactEngine::AddForces(const Data& data, const ContactResult& r, BodyForces* F) const {
+  const ContactPair& pair = pairs_[r.pair];
+  const Eigen::Vector3d& f = r.force.f;
+  auto F_b = F->col(pair.body_b);
+  F_b.head<3>() += (r.p_WC - data.pose(pair.body_b).p).cross(f);
+  F_b.tail<3>() += f;
+  auto F_a = F->col(pair.body_a);
+  F_a.head<3>() -= (r.p_WC - data.pose(pair.body_a).p).cross(f);
+  F_a.tail<3>() -= f;
 }
 
 void ContactEngine::Evaluate(const Model& model, const Data& data,
@@ -291,64 +346,57 @@ void ContactEngine::Evaluate(const Model& model, const Data& data,
     ThrowInvalidArgument("ContactEngine::Evaluate", "contact_data",
                          "sized for another engine or model", "ContactEngine::MakeData(model)");
   }
-  const std::vector<GeometryInstance>& geos = model.geometries();
   contact_data->F_ext.setZero();
   contact_data->num_active = 0;
-  contact_data->num_pruned = 0;
+  std::fill(contact_data->result_of_pair.begin(), contact_data->result_of_pair.end(), -1);
   if (use_bvh_) CollectCandidates(model, data, contact_data);
   const int num_candidates =
       use_bvh_ ? static_cast<int>(contact_data->candidates.size()) : num_pairs();
   contact_data->num_pruned = num_pairs() - num_candidates;
   for (int c = 0; c < num_candidates; ++c) {
     const int i = use_bvh_ ? contact_data->candidates[c] : c;
+    ContactResult& r = contact_data->results[contact_data->num_active];
+    if (!EvaluatePair(model, data, i, &r)) {
+      ++contact_data->num_pruned;
+      continue;
+    }
+    contact_data->result_of_pair[i] = contact_data->num_active++;
+    AddForces(data, r, &contact_data->F_ext);
+  }
+}
+
+void ContactEngine::EvaluateChanged(const Model& model, const Data& data,
+                                    const ContactData& reference,
+                                    const std::vector<char>& body_moved,
+                                    ContactData* contact_data) const {
+  if (contact_data->results.size() != pairs_.size() ||
+      reference.results.size() != pairs_.size() ||
+      static_cast<int>(body_moved.size()) != model.num_bodies()) {
+    ThrowInvalidArgument("ContactEngine::EvaluateChanged", "contact_data, reference, body_moved",
+                         "sized for another engine or model",
+                         "ContactEngine::MakeData(model) and num_bodies() flags");
+  }
+  contact_data->F_ext.setZero();
+  contact_data->num_active = 0;
+  contact_data->num_pruned = 0;
+  std::fill(contact_data->result_of_pair.begin(), contact_data->result_of_pair.end(), -1);
+  // Pair order, whether reused or recomputed: the sums are deterministic.
+  for (int i = 0; i < num_pairs(); ++i) {
     const ContactPair& pair = pairs_[i];
-    const GeometryInstance& ga = geos[pair.geometry_a];
-    const GeometryInstance& gb = geos[pair.geometry_b];
-    const RigidTransform& X_WA = data.pose(pair.body_a);
-    const RigidTransform& X_WB = data.pose(pair.body_b);
-    if (pair.cutoff_distance < kInf) {
-      // A lower bound on phi from bounding spheres (B is never a half-space).
-      const Eigen::Vector3d c_B = X_WB * bound_center_B_[pair.geometry_b];
-      double lower_bound;
-      if (IsHalfSpace(ga.shape)) {
-        const Eigen::Vector3d n_W = X_WA.R * ga.X_BG.linear().col(2);
-        const Eigen::Vector3d p_W = X_WA * Eigen::Vector3d(ga.X_BG.translation());
-        lower_bound = n_W.dot(c_B - p_W) - bound_radius_[pair.geometry_b];
-      } else {
-        const Eigen::Vector3d c_A = X_WA * bound_center_B_[pair.geometry_a];
-        lower_bound =
-            (c_B - c_A).norm() - bound_radius_[pair.geometry_a] - bound_radius_[pair.geometry_b];
-      }
-      if (lower_bound > pair.cutoff_distance) {
+    ContactResult& r = contact_data->results[contact_data->num_active];
+    if (!body_moved[pair.body_a] && !body_moved[pair.body_b]) {
+      const int j = reference.result_of_pair[i];
+      if (j < 0) {
         ++contact_data->num_pruned;
         continue;
       }
+      r = reference.results[j];
+    } else if (!EvaluatePair(model, data, i, &r)) {
+      ++contact_data->num_pruned;
+      continue;
     }
-    const Eigen::Isometry3d X_WGa = data.X_WB(pair.body_a) * ga.X_BG;
-    const Eigen::Isometry3d X_WGb = data.X_WB(pair.body_b) * gb.X_BG;
-    const SignedDistanceResult sd = SignedDistance(ga.shape, X_WGa, gb.shape, X_WGb);
-    ContactResult& r = contact_data->results[contact_data->num_active++];
-    r.pair = i;
-    r.phi = sd.distance;
-    r.normal_W = sd.normal_W;
-    r.exact = sd.exact;
-    r.p_WC = 0.5 * (sd.p_WA + sd.p_WB);
-    // Velocity of C moving with B relative to C moving with A.
-    const Eigen::Vector3d v_WCb =
-        data.v_WBo(pair.body_b) + data.w_WB(pair.body_b).cross(r.p_WC - X_WB.p);
-    const Eigen::Vector3d v_WCa =
-        data.v_WBo(pair.body_a) + data.w_WB(pair.body_a).cross(r.p_WC - X_WA.p);
-    const Eigen::Vector3d v_c = v_WCb - v_WCa;
-    r.vn = r.normal_W.dot(v_c);
-    r.vt = v_c - r.vn * r.normal_W;
-    r.force = CalcContactForce(pair.parameters, r.phi, r.vn, r.vt, r.normal_W);
-    const Eigen::Vector3d& f = r.force.f;
-    auto F_b = contact_data->F_ext.col(pair.body_b);
-    F_b.head<3>() += (r.p_WC - X_WB.p).cross(f);
-    F_b.tail<3>() += f;
-    auto F_a = contact_data->F_ext.col(pair.body_a);
-    F_a.head<3>() -= (r.p_WC - X_WA.p).cross(f);
-    F_a.tail<3>() -= f;
+    contact_data->result_of_pair[i] = contact_data->num_active++;
+    AddForces(data, r, &contact_data->F_ext);
   }
 }
 

@@ -101,6 +101,19 @@ class TrajectoryOptimizer::Impl {
     p_cauchy_ = g_;
     work_ = g_;
     work2_ = g_;
+    if (engine_) {
+      contact_.assign(N_, engine_->MakeData(model_));
+      trial_contact_ = contact_;
+    }
+    // Bodies downstream of each position coordinate's joint (welded bodies included).
+    moved_by_q_.assign(nq_, std::vector<char>(model_.num_bodies(), 0));
+    for (BodyIndex b = 1; b < model_.num_bodies(); ++b) {
+      for (BodyIndex m = model_.mobilized_body(b); m != kWorldBody; m = model_.moving_parent(m)) {
+        for (int k = 0; k < model_.joint_nq(m); ++k) {
+          moved_by_q_[model_.position_start(m) + k][b] = 1;
+        }
+      }
+    }
     Prepare();
     for (int k = 0; k <= N_; ++k) q_[k] = problem_.q_init;
     trust_radius_ = options_.initial_trust_radius;
@@ -172,26 +185,46 @@ class TrajectoryOptimizer::Impl {
     }
   }
 
-  // tau = ID(q, v, a) - J^T f(q, v), using workspace ws.
+  // tau = ID(q, v, a) - J^T f(q, v), using workspace ws. The contact evaluation goes to
+  // `contact` (ws->contact when null).
   void Tau(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
-           Workspace* ws, Eigen::VectorXd* tau) const {
+           Workspace* ws, Eigen::VectorXd* tau, ContactData* contact = nullptr) const {
     if (engine_) {
+      ContactData* cd = contact != nullptr ? contact : &ws->contact;
       ForwardKinematics(model_, q, v, &ws->data);
-      engine_->Evaluate(model_, ws->data, &ws->contact);
-      *tau = InverseDynamicsAfterKinematics(model_, v, a, &ws->contact.F_ext, &ws->data);
+      engine_->Evaluate(model_, ws->data, cd);
+      *tau = InverseDynamicsAfterKinematics(model_, v, a, &cd->F_ext, &ws->data);
     } else {
       *tau = InverseDynamics(model_, q, v, a, &ws->data);
     }
   }
 
+  // As Tau for a state that differs from the one `reference` was evaluated at only in the poses
+  // and velocities of the bodies flagged in `moved`: other pairs reuse their contact results.
+  void TauChanged(const Eigen::VectorXd& q, const Eigen::VectorXd& v, const Eigen::VectorXd& a,
+                  const ContactData& reference, const std::vector<char>& moved, Workspace* ws,
+                  Eigen::VectorXd* tau) const {
+    if (!engine_) {
+      *tau = InverseDynamics(model_, q, v, a, &ws->data);
+      return;
+    }
+    ForwardKinematics(model_, q, v, &ws->data);
+    engine_->EvaluateChanged(model_, ws->data, reference, moved, &ws->contact);
+    *tau = InverseDynamicsAfterKinematics(model_, v, a, &ws->contact.F_ext, &ws->data);
+  }
+
   // v, a, tau for trajectory q into (v, a, tau); returns the cost.
+  // The contact evaluation of each tau_k goes to (*contact)[k] when contact is given (kept for
+  // the finite differences, which reuse the pairs a perturbation does not move).
   double Evaluate(const std::vector<Eigen::VectorXd>& q, std::vector<Eigen::VectorXd>* v,
-                  std::vector<Eigen::VectorXd>* a, std::vector<Eigen::VectorXd>* tau) {
+                  std::vector<Eigen::VectorXd>* a, std::vector<Eigen::VectorXd>* tau,
+                  std::vector<ContactData>* contact = nullptr) {
     (*v)[0] = problem_.v_init;
     for (int k = 1; k <= N_; ++k) Velocity(q[k], q[k - 1], &(*v)[k]);
     for (int k = 0; k < N_; ++k) (*a)[k] = ((*v)[k + 1] - (*v)[k]) / dt_;
     ParallelFor(0, N_, options_.num_threads, [&](int k, int thread) {
-      Tau(q[k + 1], (*v)[k + 1], (*a)[k], &workspaces_[thread], &(*tau)[k]);
+      Tau(q[k + 1], (*v)[k + 1], (*a)[k], &workspaces_[thread], &(*tau)[k],
+          contact != nullptr && engine_ ? &(*contact)[k] : nullptr);
     });
     return Cost(q, *v, *tau);
   }
@@ -250,14 +283,25 @@ class TrajectoryOptimizer::Impl {
         const double h = rel * std::max(1.0, std::abs(q_[k](i)));
         // tau_{k-1}(q_k + s e_i) into out_prev, tau_k into out_here.
         auto perturbed = [&](double s, Eigen::VectorXd* out_prev, Eigen::VectorXd* out_here) {
+          // Only bodies downstream of coordinate i's joint move: their pairs are re-evaluated,
+          // the others reuse the iterate's contact results (exactly equal there).
           ws.q(i) = q_[k](i) + s;
           Velocity(ws.q, q_[k - 1], &ws.v);
           ws.a = (ws.v - v_[k - 1]) / dt_;
-          Tau(ws.q, ws.v, ws.a, &ws, out_prev);
+          if (engine_) {
+            TauChanged(ws.q, ws.v, ws.a, contact_[k - 1], moved_by_q_[i], &ws, out_prev);
+          } else {
+            Tau(ws.q, ws.v, ws.a, &ws, out_prev);
+          }
           if (k < N_) {
             Velocity(q_[k + 1], ws.q, &ws.v_next);
             ws.a_next = (ws.v_next - ws.v) / dt_;
-            Tau(q_[k + 1], ws.v_next, ws.a_next, &ws, out_here);
+            if (engine_) {
+              TauChanged(q_[k + 1], ws.v_next, ws.a_next, contact_[k], moved_by_q_[i], &ws,
+                         out_here);
+            } else {
+              Tau(q_[k + 1], ws.v_next, ws.a_next, &ws, out_here);
+            }
           }
           ws.q(i) = q_[k](i);
         };
@@ -487,7 +531,7 @@ class TrajectoryOptimizer::Impl {
     SolverSummary summary;
     const bool lagrange =
         options_.constraint_method == ConstraintMethod::kLagrangeMultipliers && nu_ > 0;
-    double cost = Evaluate(q_, &v_, &a_, &tau_);
+    double cost = Evaluate(q_, &v_, &a_, &tau_, &contact_);
     summary.initial_cost = cost;
     if (!std::isfinite(cost)) {
       summary.termination = TerminationType::kFailure;
@@ -592,7 +636,8 @@ class TrajectoryOptimizer::Impl {
       const double predicted = -(g_merit_.dot(p_) + 0.5 * p_.dot(work_));
       const Clock::time_point tc = Clock::now();
       ApplyStep(p_, &trial_q_);
-      const double trial_cost = Evaluate(trial_q_, &trial_v_, &trial_a_, &trial_tau_);
+      const double trial_cost =
+          Evaluate(trial_q_, &trial_v_, &trial_a_, &trial_tau_, &trial_contact_);
       double trial_merit = trial_cost;
       if (lagrange) {
         for (int j = 0; j < N_; ++j) {
@@ -620,6 +665,7 @@ class TrajectoryOptimizer::Impl {
         std::swap(v_, trial_v_);
         std::swap(a_, trial_a_);
         std::swap(tau_, trial_tau_);
+        std::swap(contact_, trial_contact_);
         const double previous = cost;
         cost = trial_cost;
         need_derivatives = true;
@@ -701,7 +747,7 @@ class TrajectoryOptimizer::Impl {
       model_.CheckConfiguration("TrajectoryOptimizer", "q[k]", q[k]);
       q_[k] = q[k];
     }
-    Evaluate(q_, &v_, &a_, &tau_);
+    Evaluate(q_, &v_, &a_, &tau_, &contact_);
   }
 
   Model model_;
@@ -716,6 +762,10 @@ class TrajectoryOptimizer::Impl {
   std::vector<IterationCallback> callbacks_;
 
   std::vector<Eigen::VectorXd> q_, v_, a_, tau_;
+  // Contact evaluation of each tau_k at the iterate (and at the trial point).
+  std::vector<ContactData> contact_, trial_contact_;
+  // For each position coordinate: the bodies whose pose or velocity it moves (num_bodies).
+  std::vector<std::vector<char>> moved_by_q_;
   std::vector<Eigen::VectorXd> trial_q_, trial_v_, trial_a_, trial_tau_;
   std::vector<Eigen::MatrixXd> Nplus_, dv_dq_, dv_dqm_, dtau_dqm_, dtau_dq_, dtau_dqp_, M_;
   PentaDiagonalMatrix H_;

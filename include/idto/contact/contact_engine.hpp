@@ -85,6 +85,8 @@ struct ContactData {
   BodyForces F_ext;
   /// Scratch: candidate pairs of the broad phase (capacity: the number of pairs).
   std::vector<int> candidates;
+  /// For each pair: its entry in `results`, or -1 when it was pruned (num_pairs()).
+  std::vector<int> result_of_pair;
 };
 
 /// The immutable contact description of a Model: the list of pairs that can touch.
@@ -106,6 +108,14 @@ class ContactEngine {
   /// Evaluates every pair that is not pruned. `data` must hold ForwardKinematics(q, v). Fills
   /// contact_data->results and F_ext. Allocation-free.
   void Evaluate(const Model& model, const Data& data, ContactData* contact_data) const;
+
+  /// As Evaluate, but pairs whose two bodies are not flagged in `body_moved` (num_bodies()
+  /// entries) take their result from `reference`, an evaluation of this engine at a state where
+  /// those bodies had the same poses and velocities (the solver's finite differences: perturbing
+  /// one coordinate moves only the bodies downstream of its joint). Results, forces and their
+  /// order are those Evaluate would give, up to the pruning decisions of reused pairs.
+  void EvaluateChanged(const Model& model, const Data& data, const ContactData& reference,
+                       const std::vector<char>& body_moved, ContactData* contact_data) const;
 
  private:
   ContactOptions options_;
@@ -137,6 +147,8 @@ class ContactEngine {
   bool use_bvh_{false};
 
   int BuildBvh(int first, int count);
+  bool EvaluatePair(const Model& model, const Data& data, int i, ContactResult* r) const;
+  void AddForces(const Data& data, const ContactResult& r, BodyForces* F) const;
   void CollectCandidates(const Model& model, const Data& data, ContactData* cd) const;
 };
 
