@@ -282,6 +282,45 @@ TEST(ContactEngine, BroadPhaseOverStaticGeometryNeverMissesAPairWithinTheCutoff)
   EXPECT_GT(checked, 50);
 }
 
+TEST(ContactEngine, EvaluateChangedReusesUnmovedPairsAndMatchesEvaluate) {
+  const Model model = Scene();
+  ContactOptions o;
+  o.force_tolerance = 1e-6;
+  const ContactEngine engine(model, o);
+  ContactData reference = engine.MakeData(model), changed = engine.MakeData(model),
+              fresh = engine.MakeData(model);
+  Data data(model);
+  test::Random rng(21);
+  for (int trial = 0; trial < 20; ++trial) {
+    Eigen::VectorXd q = model.NeutralConfiguration();
+    q.segment<3>(model.GetPositionStart("ball1_free") + 4) = rng.Vector(3, -0.2, 0.2);
+    q(model.GetPositionStart("ball1_free") + 6) = 0.09;
+    q.segment<3>(model.GetPositionStart("ball2_free") + 4) = rng.Vector(3, -0.2, 0.3);
+    q(model.GetPositionStart("shoulder")) = rng.Uniform(0.5, 1.5);
+    q(model.GetPositionStart("elbow")) = rng.Uniform(-1.0, 1.0);
+    Eigen::VectorXd v = rng.Vector(model.nv());
+    ForwardKinematics(model, q, v, &data);
+    engine.Evaluate(model, data, &reference);
+    // Perturb the elbow: only the lower arm moves.
+    q(model.GetPositionStart("elbow")) += 1e-3;
+    v(model.GetVelocityStart("elbow")) += 0.1;
+    std::vector<char> moved(model.num_bodies(), 0);
+    moved[model.GetBodyIndex("lower")] = 1;
+    ForwardKinematics(model, q, v, &data);
+    engine.EvaluateChanged(model, data, reference, moved, &changed);
+    engine.Evaluate(model, data, &fresh);
+    ASSERT_EQ(changed.num_active, fresh.num_active);
+    EXPECT_EIGEN_NEAR(changed.F_ext, fresh.F_ext, 1e-12);
+    for (int i = 0; i < fresh.num_active; ++i) {
+      EXPECT_EQ(changed.results[i].pair, fresh.results[i].pair);
+    }
+  }
+  // Wrong sizes are errors.
+  std::vector<char> short_mask(2, 0);
+  EXPECT_THAT([&] { engine.EvaluateChanged(model, data, reference, short_mask, &changed); },
+              ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("EvaluateChanged")));
+}
+
 TEST(ContactEngine, EvaluationDoesNotAllocate) {
   // Allocation counting lives in the multibody test binary; here check the buffers are reused.
   const Model model = Scene();
