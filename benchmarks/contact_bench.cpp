@@ -37,8 +37,7 @@ Scene MakeScene(const std::string& variant) {
       Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
       if (variant == "filtered100") {
         X.translation() << 0.01 * (i % 10) - 0.05, 0.01 * (i / 10) - 0.05, 0.02;
-        b.AddGeometry("extra" + std::to_string(i), b.GetBodyIndex("body"), X,
-                      idto::Sphere{0.01});
+        b.AddGeometry("extra" + std::to_string(i), b.GetBodyIndex("body"), X, idto::Sphere{0.01});
       } else {
         const double angle = 2.0 * M_PI * i / 100.0;
         X.translation() << (5.0 + 0.05 * i) * std::cos(angle), (5.0 + 0.05 * i) * std::sin(angle),
@@ -121,13 +120,11 @@ void Register() {
   for (const std::string variant : {"plain", "filtered100", "far100"}) {
     for (double tol : {0.0, 1e-8, 1e-4, 1e-2, 1.0}) {
       if (variant == "filtered100" && tol != 1e-8) continue;
-      const std::string name = "contact/quadruped/" + variant + "/tol:" +
-                               (tol == 0.0 ? std::string("off") : std::to_string(tol));
-      benchmark::RegisterBenchmark(name.c_str(),
-                                   [variant, tol](benchmark::State& s) {
-                                     BM_Contact(s, variant, tol);
-                                   })
-          ->Unit(benchmark::kNanosecond);
+      const std::string name = "contact/quadruped/" + variant +
+                               "/tol:" + (tol == 0.0 ? std::string("off") : std::to_string(tol));
+      benchmark::RegisterBenchmark(name.c_str(), [variant, tol](benchmark::State& s) {
+        BM_Contact(s, variant, tol);
+      })->Unit(benchmark::kNanosecond);
     }
   }
 }

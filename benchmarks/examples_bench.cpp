@@ -27,8 +27,8 @@ void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool 
   }
   idto::SolverOptions o = config.solver;
   o.num_threads = threads;
-  o.constraint_method = lagrange ? idto::ConstraintMethod::kLagrangeMultipliers
-                                 : idto::ConstraintMethod::kPenalty;
+  o.constraint_method =
+      lagrange ? idto::ConstraintMethod::kLagrangeMultipliers : idto::ConstraintMethod::kPenalty;
   o.max_iterations = 5;
   o.fixed_iterations = true;
   idto::TrajectoryOptimizer opt(config.model, config.problem, o);
@@ -70,10 +70,9 @@ void Register() {
     for (bool lagrange : {false, true}) {
       if (name == "pendulum" && lagrange) continue;
       const std::string bench = "examples/" + name + "/" + (lagrange ? "lagrange" : "penalty");
-      benchmark::RegisterBenchmark(bench.c_str(),
-                                   [name, lagrange](benchmark::State& s) {
-                                     BM_ExampleIteration(s, name, lagrange);
-                                   })
+      benchmark::RegisterBenchmark(
+          bench.c_str(),
+          [name, lagrange](benchmark::State& s) { BM_ExampleIteration(s, name, lagrange); })
           ->ArgName("threads")
           ->Arg(1)
           ->Arg(2)

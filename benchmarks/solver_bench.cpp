@@ -46,8 +46,8 @@ idto::Model Acrobot() {
   j1.name = "shoulder";
   j1.type = idto::JointType::kRevolute;
   j1.axis = Eigen::Vector3d::UnitY();
-  const BodyIndex l1 = b.AddBody("link1", Mass(1.0, Eigen::Vector3d(0, 0, -0.5)),
-                                 idto::kWorldBody, j1);
+  const BodyIndex l1 =
+      b.AddBody("link1", Mass(1.0, Eigen::Vector3d(0, 0, -0.5)), idto::kWorldBody, j1);
   idto::JointSpec j2 = j1;
   j2.name = "elbow";
   j2.X_PJ.translation() << 0, 0, -1;
@@ -72,8 +72,7 @@ idto::Model BallAndFinger() {
   j1.type = idto::JointType::kRevolute;
   j1.axis = Eigen::Vector3d::UnitY();
   j1.X_PJ.translation() << -0.3, 0.0, 0.3;
-  const BodyIndex l1 =
-      b.AddBody("l1", Mass(0.3, Eigen::Vector3d(0.1, 0, 0)), idto::kWorldBody, j1);
+  const BodyIndex l1 = b.AddBody("l1", Mass(0.3, Eigen::Vector3d(0.1, 0, 0)), idto::kWorldBody, j1);
   idto::JointSpec j2 = j1;
   j2.name = "j2";
   j2.X_PJ.translation() << 0.2, 0.0, 0.0;
@@ -113,15 +112,16 @@ idto::ProblemDefinition MakeProblem(const idto::Model& model, const std::string&
 void BM_SolverIteration(benchmark::State& state, const std::string& name, bool lagrange) {
   const int N = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
-  const idto::Model model =
-      name == "pendulum" ? Pendulum() : name == "acrobot" ? Acrobot() : BallAndFinger();
+  const idto::Model model = name == "pendulum"  ? Pendulum()
+                            : name == "acrobot" ? Acrobot()
+                                                : BallAndFinger();
   const idto::ProblemDefinition p = MakeProblem(model, name, N);
   idto::SolverOptions o;
   o.max_iterations = 1;
   o.fixed_iterations = true;
   o.num_threads = threads;
-  o.constraint_method = lagrange ? idto::ConstraintMethod::kLagrangeMultipliers
-                                 : idto::ConstraintMethod::kPenalty;
+  o.constraint_method =
+      lagrange ? idto::ConstraintMethod::kLagrangeMultipliers : idto::ConstraintMethod::kPenalty;
   idto::TrajectoryOptimizer opt(model, p, o);
   opt.SetIterate(std::vector<Eigen::VectorXd>(N + 1, p.q_init));
   idto::Trajectory sol;
@@ -156,12 +156,10 @@ void Register() {
   for (const std::string name : {"pendulum", "acrobot", "ball_finger"}) {
     for (bool lagrange : {false, true}) {
       if (name == "pendulum" && lagrange) continue;  // no unactuated DoFs
-      const std::string bench_name =
-          "solver/" + name + "/" + (lagrange ? "lagrange" : "penalty");
+      const std::string bench_name = "solver/" + name + "/" + (lagrange ? "lagrange" : "penalty");
       auto* b = benchmark::RegisterBenchmark(
-          bench_name.c_str(), [name, lagrange](benchmark::State& s) {
-            BM_SolverIteration(s, name, lagrange);
-          });
+          bench_name.c_str(),
+          [name, lagrange](benchmark::State& s) { BM_SolverIteration(s, name, lagrange); });
       b->ArgNames({"N", "threads"})->Unit(benchmark::kMicrosecond)->UseRealTime();
       for (int N : {10, 20, 40, 80, 160}) b->Args({N, 1});
       b->Args({40, 2});

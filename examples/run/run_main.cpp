@@ -34,9 +34,9 @@
 
 #include "idto/idto.hpp"
 #include "idto/mpc/closed_loop.hpp"
+#include "idto/parsers/config.hpp"
 #include "idto/parsers/mpc_config.hpp"
 #include "idto/sim/plant.hpp"
-#include "idto/parsers/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "idto_build_paths.hpp"
 #include "run/metrics.hpp"
@@ -635,7 +635,6 @@ int Run(const Arguments& args, const char* argv0) {
   return kExitOk;
 }
 
-
 // ---------------------------------------------------------------------------- MPC
 
 /// The closed-loop trajectory resampled at the planner's time step, as a Trajectory, so that
@@ -673,9 +672,9 @@ int RunMpc(const Arguments& args, const char* argv0) {
             << "  plant: " << mpc.plant << ", control rate " << mpc.controller.control_rate
             << " Hz, " << mpc.controller.iterations_per_step << " iteration(s) per step, "
             << mpc.closed_loop.duration << " s, threads " << options.num_threads << "\n";
-  std::unique_ptr<idto::sim::Plant> plant =
-      mpc.plant == "mujoco" ? idto::sim::MakeMujocoPlant(model, mpc.mujoco)
-                            : idto::sim::MakeBuiltinPlant(model, mpc.builtin);
+  std::unique_ptr<idto::sim::Plant> plant = mpc.plant == "mujoco"
+                                                ? idto::sim::MakeMujocoPlant(model, mpc.mujoco)
+                                                : idto::sim::MakeBuiltinPlant(model, mpc.builtin);
   plant->Reset(config.problem.q_init, config.problem.v_init);
   idto::mpc::Controller controller(model, config.problem, options, mpc.controller);
   const SolverSummary first =
@@ -686,12 +685,12 @@ int RunMpc(const Arguments& args, const char* argv0) {
   const Trajectory closed = ClosedLoopTrajectory(log, config.problem.time_step);
   const idto::examples::TaskResult task = idto::examples::EvaluateTask(config, closed);
   std::cout << "result (closed loop):\n"
-            << "  re-plans: " << log.solve_time.size() << ", rejected: "
-            << log.num_rejected_plans << "\n"
+            << "  re-plans: " << log.solve_time.size() << ", rejected: " << log.num_rejected_plans
+            << "\n"
             << "  solve time: mean " << 1e3 * log.mean_solve_time() << " ms, p95 "
-            << 1e3 * log.percentile_solve_time(95) << " ms, max "
-            << 1e3 * log.max_solve_time() << " ms; period " << 1e3 * log.control_period
-            << " ms; on time " << 100.0 * log.fraction_on_time() << " %\n"
+            << 1e3 * log.percentile_solve_time(95) << " ms, max " << 1e3 * log.max_solve_time()
+            << " ms; period " << 1e3 * log.control_period << " ms; on time "
+            << 100.0 * log.fraction_on_time() << " %\n"
             << "  q_final: " << FormatVector(plant->q()) << "\n";
   PrintTask(task);
   if (!args.summary_json.empty()) {

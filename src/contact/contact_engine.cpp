@@ -142,8 +142,8 @@ ContactEngine::ContactEngine(const Model& model, const ContactOptions& options)
         if (o.friction_coefficient) p.friction_coefficient = *o.friction_coefficient;
         if (o.stiction_velocity) p.stiction_velocity = *o.stiction_velocity;
       }
-      pair.parameters.Validate("ContactEngine: parameters of pair (\"" + geos[ga].name +
-                               "\", \"" + geos[gb].name + "\")");
+      pair.parameters.Validate("ContactEngine: parameters of pair (\"" + geos[ga].name + "\", \"" +
+                               geos[gb].name + "\")");
       pair.cutoff_distance = options_.force_tolerance > 0.0
                                  ? ContactCutoffDistance(pair.parameters, options_.force_tolerance)
                                  : kInf;
@@ -231,8 +231,7 @@ int ContactEngine::BuildBvh(int first, int count) {
   return index;
 }
 
-void ContactEngine::CollectCandidates(const Model& model, const Data& data,
-                                      ContactData* cd) const {
+void ContactEngine::CollectCandidates(const Model& model, const Data& data, ContactData* cd) const {
   (void)model;
   cd->candidates.clear();
   for (int i : other_pairs_) cd->candidates.push_back(i);
@@ -369,8 +368,7 @@ void ContactEngine::EvaluateChanged(const Model& model, const Data& data,
                                     const ContactData& reference,
                                     const std::vector<char>& body_moved,
                                     ContactData* contact_data) const {
-  if (contact_data->results.size() != pairs_.size() ||
-      reference.results.size() != pairs_.size() ||
+  if (contact_data->results.size() != pairs_.size() || reference.results.size() != pairs_.size() ||
       static_cast<int>(body_moved.size()) != model.num_bodies()) {
     ThrowInvalidArgument("ContactEngine::EvaluateChanged", "contact_data, reference, body_moved",
                          "sized for another engine or model",

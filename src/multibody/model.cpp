@@ -13,8 +13,8 @@ template <typename Map>
 int LookUp(const Map& map, const std::string& name, const char* where, const char* kind) {
   const auto it = map.find(name);
   if (it == map.end()) {
-    ThrowInvalidArgument(where, kind, "\"" + name + "\"", std::string("the name of a ") + kind +
-                                                            " of the model");
+    ThrowInvalidArgument(where, kind, "\"" + name + "\"",
+                         std::string("the name of a ") + kind + " of the model");
   }
   return it->second;
 }

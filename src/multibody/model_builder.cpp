@@ -46,10 +46,10 @@ void CheckInertia(const std::string& where, const std::string& body, const BodyI
           .eigenvalues();
   const double tol = 1e-9 * scale;
   if (moments.minCoeff() < -tol) {
-    ThrowInvalidArgument(where, "inertia of body " + Quoted(body),
-                         "indefinite (smallest principal moment " +
-                             FormatValue(moments.minCoeff()) + ")",
-                         "a positive semi-definite matrix");
+    ThrowInvalidArgument(
+        where, "inertia of body " + Quoted(body),
+        "indefinite (smallest principal moment " + FormatValue(moments.minCoeff()) + ")",
+        "a positive semi-definite matrix");
   }
   // Triangle inequality of principal moments (sorted ascending): largest <= sum of the others.
   if (moments(2) > moments(0) + moments(1) + tol) {
@@ -132,10 +132,10 @@ BodyIndex ModelBuilder::AddBody(const std::string& name, const BodyInertia& iner
   }
   if (std::isnan(spec.lower_limit) || std::isnan(spec.upper_limit) ||
       spec.lower_limit > spec.upper_limit) {
-    ThrowInvalidArgument(kWhere, "limits of joint " + Quoted(joint.name),
-                         "[" + FormatValue(spec.lower_limit) + ", " +
-                             FormatValue(spec.upper_limit) + "]",
-                         "lower <= upper");
+    ThrowInvalidArgument(
+        kWhere, "limits of joint " + Quoted(joint.name),
+        "[" + FormatValue(spec.lower_limit) + ", " + FormatValue(spec.upper_limit) + "]",
+        "lower <= upper");
   }
   bodies_.push_back(BodyEntry{name, parent, inertia, spec});
   const BodyIndex b = num_bodies() - 1;
@@ -168,8 +168,8 @@ GeometryIndex ModelBuilder::AddGeometry(const std::string& name, BodyIndex body,
                          "an existing body index in [0, " + std::to_string(num_bodies()) + ")");
   }
   if (!IsFinitePose(X_BG) || !IsRotation(X_BG.linear())) {
-    ThrowInvalidArgument(kWhere, "X_BG of geometry " + Quoted(name),
-                         "not a finite rigid transform", "a finite pose with a rotation matrix");
+    ThrowInvalidArgument(kWhere, "X_BG of geometry " + Quoted(name), "not a finite rigid transform",
+                         "a finite pose with a rotation matrix");
   }
   auto check_positive = [&](const char* what, double value) {
     if (!(std::isfinite(value) && value > 0.0)) {
@@ -214,7 +214,6 @@ bool ModelBuilder::HasBody(const std::string& name) const {
   }
   return false;
 }
-
 
 Model ModelBuilder::Build() const {
   static constexpr const char* kWhere = "ModelBuilder::Build";
@@ -316,10 +315,10 @@ Model ModelBuilder::Build() const {
             .eigenvalues()
             .minCoeff();
     if (!(smallest > 1e-12 * std::max(1.0, Ic.trace()))) {
-      ThrowInvalidArgument(kWhere, "rotational inertia of moving body " + Quoted(m.body_name_[b]),
-                           "not positive definite (smallest principal moment " +
-                               FormatValue(smallest) + ")",
-                           "a positive-definite inertia for a body on a non-fixed joint");
+      ThrowInvalidArgument(
+          kWhere, "rotational inertia of moving body " + Quoted(m.body_name_[b]),
+          "not positive definite (smallest principal moment " + FormatValue(smallest) + ")",
+          "a positive-definite inertia for a body on a non-fixed joint");
     }
   }
 

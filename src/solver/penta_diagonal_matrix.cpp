@@ -126,15 +126,13 @@ PentaDiagonalCholesky& PentaDiagonalCholesky::compute(const PentaDiagonalMatrix&
     // L(k,k-2) = A(k) L(k-2,k-2)^-T
     if (k >= 2) {
       L2_[k] = H.A(k);
-      L0_[k - 2].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(
-          L2_[k]);
+      L0_[k - 2].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(L2_[k]);
     }
     // L(k,k-1) = (B(k) - L(k,k-2) L(k-1,k-2)^T) L(k-1,k-1)^-T
     if (k >= 1) {
       L1_[k] = H.B(k);
       if (k >= 2) L1_[k].noalias() -= L2_[k] * L1_[k - 1].transpose();
-      L0_[k - 1].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(
-          L1_[k]);
+      L0_[k - 1].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(L1_[k]);
     }
     // L(k,k) = chol(C(k) - L(k,k-2) L(k,k-2)^T - L(k,k-1) L(k,k-1)^T)
     L0_[k] = H.C(k);

@@ -7,10 +7,14 @@ namespace idto {
 
 std::string TerminationTypeName(TerminationType type) {
   switch (type) {
-    case TerminationType::kConverged: return "converged";
-    case TerminationType::kMaxIterations: return "max_iterations";
-    case TerminationType::kFailure: return "failure";
-    case TerminationType::kUserTermination: return "user";
+    case TerminationType::kConverged:
+      return "converged";
+    case TerminationType::kMaxIterations:
+      return "max_iterations";
+    case TerminationType::kFailure:
+      return "failure";
+    case TerminationType::kUserTermination:
+      return "user";
   }
   return "unknown";
 }
@@ -19,10 +23,14 @@ namespace {
 
 const char* StepName(DoglegStep s) {
   switch (s) {
-    case DoglegStep::kNewton: return "newton";
-    case DoglegStep::kCauchy: return "cauchy";
-    case DoglegStep::kDogleg: return "dogleg";
-    case DoglegStep::kNone: return "none";
+    case DoglegStep::kNewton:
+      return "newton";
+    case DoglegStep::kCauchy:
+      return "cauchy";
+    case DoglegStep::kDogleg:
+      return "dogleg";
+    case DoglegStep::kNone:
+      return "none";
   }
   return "none";
 }
@@ -57,8 +65,8 @@ std::string SolverSummary::FullReport() const {
     std::snprintf(line, sizeof(line),
                   "%5d %11.4e %11.4e %9.2e %9.2e %9.2e %9.2e  %3s  %-6s %10.3e %7.3f\n",
                   s.iteration, s.cost, s.merit, s.gradient_norm, s.step_norm, s.trust_radius,
-                  s.ratio, s.accepted ? "yes" : "no", StepName(s.step_type),
-                  s.constraint_violation, 1e3 * s.time_total);
+                  s.ratio, s.accepted ? "yes" : "no", StepName(s.step_type), s.constraint_violation,
+                  1e3 * s.time_total);
     out << line;
     total.time_derivatives += s.time_derivatives;
     total.time_cost += s.time_cost;
@@ -81,16 +89,16 @@ std::string SolverSummary::ToCsv() const {
   std::ostringstream out;
   out.precision(17);
   out << "iteration,cost,merit,gradient_norm,step_norm,scaled_step_norm,trust_radius,ratio,"
-         "accepted,step_type,constraint_violation,trial_cost,regularization,time_derivatives,time_cost,"
+         "accepted,step_type,constraint_violation,trial_cost,regularization,time_derivatives,time_"
+         "cost,"
          "time_hessian,time_factorization,time_multipliers,time_total\n";
   for (const IterationSummary& s : log) {
     out << s.iteration << ',' << s.cost << ',' << s.merit << ',' << s.gradient_norm << ','
         << s.step_norm << ',' << s.scaled_step_norm << ',' << s.trust_radius << ',' << s.ratio
         << ',' << (s.accepted ? 1 : 0) << ',' << StepName(s.step_type) << ','
         << s.constraint_violation << ',' << s.trial_cost << ',' << s.regularization << ','
-        << s.time_derivatives << ','
-        << s.time_cost << ',' << s.time_hessian << ',' << s.time_factorization << ','
-        << s.time_multipliers << ',' << s.time_total << '\n';
+        << s.time_derivatives << ',' << s.time_cost << ',' << s.time_hessian << ','
+        << s.time_factorization << ',' << s.time_multipliers << ',' << s.time_total << '\n';
   }
   return out.str();
 }

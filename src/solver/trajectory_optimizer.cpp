@@ -145,16 +145,15 @@ class TrajectoryOptimizer::Impl {
   // Kinematics of the discretization.
 
   // v = N+(q) (q - q_prev) / dt without forming N+.
-  void Velocity(const Eigen::VectorXd& q, const Eigen::VectorXd& q_prev,
-                Eigen::VectorXd* v) const {
+  void Velocity(const Eigen::VectorXd& q, const Eigen::VectorXd& q_prev, Eigen::VectorXd* v) const {
     for (BodyIndex b : model_.moving_bodies()) {
       const int iq = model_.position_start(b), iv = model_.velocity_start(b);
       if (model_.joint_type(b) == JointType::kFloating) {
         // w = 4 / |Q|^2 G(Q)^T (Q - Q_prev) / dt; the rest is linear.
         const Eigen::Matrix<double, 4, 3> G = QuaternionRateMatrix(q.data() + iq);
         const double n2 = q.segment<4>(iq).squaredNorm();
-        v->segment<3>(iv) = (4.0 / (n2 * dt_)) * G.transpose() *
-                            (q.segment<4>(iq) - q_prev.segment<4>(iq));
+        v->segment<3>(iv) =
+            (4.0 / (n2 * dt_)) * G.transpose() * (q.segment<4>(iq) - q_prev.segment<4>(iq));
         v->segment<3>(iv + 3) = (q.segment<3>(iq + 4) - q_prev.segment<3>(iq + 4)) / dt_;
       } else {
         for (int k = 0; k < model_.joint_nq(b); ++k) {
@@ -423,8 +422,7 @@ class TrajectoryOptimizer::Impl {
 
   void UpdateEffectiveWeights() {
     R_eff_ = problem_.R;
-    if (options_.constraint_method == ConstraintMethod::kPenalty &&
-        options_.penalty_weight > 0.0) {
+    if (options_.constraint_method == ConstraintMethod::kPenalty && options_.penalty_weight > 0.0) {
       for (int d : unactuated_) R_eff_(d) = options_.penalty_weight;
     }
     WR_ = dt_ * R_eff_;
@@ -449,8 +447,7 @@ class TrajectoryOptimizer::Impl {
     for (int k = 0; k <= N_; ++k) {
       model_.CheckConfiguration("TrajectoryOptimizer::Solve",
                                 ("q_guess[" + std::to_string(k) + "]").c_str(), q_guess[k]);
-      CheckFinite("TrajectoryOptimizer::Solve", "q_guess[" + std::to_string(k) + "]",
-                  q_guess[k]);
+      CheckFinite("TrajectoryOptimizer::Solve", "q_guess[" + std::to_string(k) + "]", q_guess[k]);
       q_[k] = q_guess[k];
       NormalizeQuaternions(model_, &q_[k]);
     }
@@ -567,7 +564,7 @@ class TrajectoryOptimizer::Impl {
             D_(i) = 1.0;
           } else {
             D_(i) = options_.scaling == ScalingMethod::kSqrt ? 1.0 / std::sqrt(d)
-                                                              : 1.0 / std::sqrt(std::sqrt(d));
+                                                             : 1.0 / std::sqrt(std::sqrt(d));
           }
         }
         if (!Factorize(&s.regularization)) {
@@ -598,8 +595,7 @@ class TrajectoryOptimizer::Impl {
           S_llt_.compute(S_);  // reads the lower triangle only
           if (S_llt_.info() != Eigen::Success) {
             summary.termination = TerminationType::kFailure;
-            summary.message =
-                "A H^-1 A^T is not positive definite (constraints not independent)";
+            summary.message = "A H^-1 A^T is not positive definite (constraints not independent)";
             summary.log.push_back(s);
             break;
           }
@@ -649,8 +645,9 @@ class TrajectoryOptimizer::Impl {
       s.time_cost = Seconds(tc, Clock::now());
       s.trial_cost = trial_cost;
       const double actual = merit - trial_merit;
-      s.ratio = std::isfinite(trial_merit) && predicted > 0.0 ? actual / predicted
-                                                              : -std::numeric_limits<double>::infinity();
+      s.ratio = std::isfinite(trial_merit) && predicted > 0.0
+                    ? actual / predicted
+                    : -std::numeric_limits<double>::infinity();
       // Radius update (Nocedal & Wright, Algorithm 4.1).
       if (s.ratio < 0.25) {
         trust_radius_ = 0.25 * s.scaled_step_norm;
@@ -692,8 +689,7 @@ class TrajectoryOptimizer::Impl {
         // Near a stationary point the predicted reduction sinks to round-off and steps are
         // rejected for noise: that is convergence, not failure. The radius is floored so a
         // warm-started solve (MPC) can move again when its problem changes.
-        const bool negligible =
-            !(std::abs(predicted) > 1e-14 * std::max(1.0, std::abs(merit)));
+        const bool negligible = !(std::abs(predicted) > 1e-14 * std::max(1.0, std::abs(merit)));
         const bool at_floor = trust_radius_ < kMinTrustRadius;
         if (at_floor) trust_radius_ = kMinTrustRadius;
         if (!std::isfinite(trial_merit) && at_floor) {
@@ -711,15 +707,15 @@ class TrajectoryOptimizer::Impl {
         }
       }
       if (options_.verbosity > 0) {
-        std::printf("%4d cost %.6e rho %.3e radius %.3e %s\n", it, s.cost, s.ratio,
-                    s.trust_radius, s.accepted ? "accepted" : "rejected");
+        std::printf("%4d cost %.6e rho %.3e radius %.3e %s\n", it, s.cost, s.ratio, s.trust_radius,
+                    s.accepted ? "accepted" : "rejected");
       }
       for (const IterationCallback& cb : callbacks_) {
         const CallbackReturn r = cb(summary.log.back());
         if (r != CallbackReturn::kContinue) {
           summary.termination = TerminationType::kUserTermination;
-          summary.message = r == CallbackReturn::kAbort ? "aborted by a callback"
-                                                        : "terminated by a callback";
+          summary.message =
+              r == CallbackReturn::kAbort ? "aborted by a callback" : "terminated by a callback";
         }
       }
       if (summary.termination != TerminationType::kMaxIterations) break;
@@ -798,8 +794,7 @@ SolverSummary TrajectoryOptimizer::SolveWarmStart(Trajectory* solution) {
 void TrajectoryOptimizer::ResetInitialConditions(const Eigen::VectorXd& q_init,
                                                  const Eigen::VectorXd& v_init) {
   ProblemDefinition& p = impl_->problem_;
-  impl_->model_.CheckConfiguration("TrajectoryOptimizer::ResetInitialConditions", "q_init",
-                                   q_init);
+  impl_->model_.CheckConfiguration("TrajectoryOptimizer::ResetInitialConditions", "q_init", q_init);
   impl_->model_.CheckVelocity("TrajectoryOptimizer::ResetInitialConditions", "v_init", v_init);
   CheckFinite("TrajectoryOptimizer::ResetInitialConditions", "q_init", q_init);
   CheckFinite("TrajectoryOptimizer::ResetInitialConditions", "v_init", v_init);
@@ -841,8 +836,7 @@ void TrajectoryOptimizer::EvalTrajectory(const std::vector<Eigen::VectorXd>& q,
   impl_->StoreSolution(trajectory);
 }
 
-void TrajectoryOptimizer::EvalGradient(const std::vector<Eigen::VectorXd>& q,
-                                       Eigen::VectorXd* g) {
+void TrajectoryOptimizer::EvalGradient(const std::vector<Eigen::VectorXd>& q, Eigen::VectorXd* g) {
   impl_->LoadIterate(q);
   impl_->CalcDerivatives();
   g->resize(impl_->N_ * impl_->nq_);

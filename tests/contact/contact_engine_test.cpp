@@ -95,8 +95,8 @@ TEST(ContactEngine, UnknownNamesAndBadParametersAreErrors) {
   ContactOptions o;
   o.excluded_pairs = {{"ball1", "nope"}};
   EXPECT_THAT([&] { ContactEngine(model, o); },
-              ::testing::ThrowsMessage<InvalidArgument>(AllOf(
-                  HasSubstr("options.excluded_pairs[0]"), HasSubstr("\"nope\""))));
+              ::testing::ThrowsMessage<InvalidArgument>(
+                  AllOf(HasSubstr("options.excluded_pairs[0]"), HasSubstr("\"nope\""))));
   ContactOptions p;
   ContactParameterOverride over;
   over.a = "ball1";
@@ -188,7 +188,7 @@ TEST(ContactEngine, GroundPushesABallUpWithTheLawsForce) {
   const double fz = cdata.F_ext(5, ball1);
   double c, dc;
   ComplianceAndDerivative(o.parameters, -0.005, &c, &dc);
-  EXPECT_NEAR(fz, c, 1e-9 * c);  // d(0) = 1
+  EXPECT_NEAR(fz, c, 1e-9 * c);                                      // d(0) = 1
   EXPECT_NEAR(cdata.F_ext.col(ball1).head<3>().norm(), 0.0, 1e-12);  // through the centre
   // ball2 is 1.9 m above the ground: pruned (its force would be below 1e-8 N).
   EXPECT_GE(cdata.num_pruned, 1);
@@ -329,8 +329,7 @@ TEST(ContactEngine, EvaluationDoesNotAllocate) {
   Data data(model);
   const double* before = cdata.F_ext.data();
   const ContactResult* results_before = cdata.results.data();
-  ForwardKinematics(model, model.NeutralConfiguration(), Eigen::VectorXd::Zero(model.nv()),
-                    &data);
+  ForwardKinematics(model, model.NeutralConfiguration(), Eigen::VectorXd::Zero(model.nv()), &data);
   engine.Evaluate(model, data, &cdata);
   EXPECT_EQ(cdata.F_ext.data(), before);
   EXPECT_EQ(cdata.results.data(), results_before);

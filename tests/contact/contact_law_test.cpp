@@ -37,10 +37,9 @@ TEST(ContactLaw, MatchesThePapersFormulasInTheRegularRange) {
       EXPECT_NEAR(f.compliance, c, 1e-12 * c);
       EXPECT_NEAR(f.dissipation, d, 1e-15);
       EXPECT_NEAR(f.fn, c * d, 1e-12 * std::max(1.0, c * d));
-      const Eigen::Vector3d ft = -p.friction_coefficient * vt /
-                                 std::sqrt(p.stiction_velocity * p.stiction_velocity +
-                                           vt.squaredNorm()) *
-                                 c * d;
+      const Eigen::Vector3d ft =
+          -p.friction_coefficient * vt /
+          std::sqrt(p.stiction_velocity * p.stiction_velocity + vt.squaredNorm()) * c * d;
       EXPECT_EIGEN_NEAR(f.ft, ft, 1e-12 * std::max(1.0, c * d));
       EXPECT_EIGEN_NEAR(f.f, Eigen::Vector3d(c * d * n + ft), 1e-12 * std::max(1.0, c * d));
       // Coulomb cone and maximum dissipation.
@@ -119,10 +118,9 @@ TEST(ContactLaw, FiniteAtTheExtremesOfTheParameterSpace) {
         for (double ratio : {-1e6, -1e3, -1.0, 0.0, 1.0, 1e3, 1e6}) {
           const double phi = ratio * sigma;
           for (double vt_mag : {0.0, 1e-9, 1e-3, 10.0}) {
-            const ContactForce f =
-                CalcContactForce(p, phi, -0.5, Eigen::Vector3d(vt_mag, 0, 0), n);
-            SCOPED_TRACE(::testing::Message() << "k=" << k << " sigma=" << sigma
-                                              << " vs=" << vs << " phi/sigma=" << ratio);
+            const ContactForce f = CalcContactForce(p, phi, -0.5, Eigen::Vector3d(vt_mag, 0, 0), n);
+            SCOPED_TRACE(::testing::Message() << "k=" << k << " sigma=" << sigma << " vs=" << vs
+                                              << " phi/sigma=" << ratio);
             EXPECT_TRUE(std::isfinite(f.fn));
             EXPECT_GE(f.fn, 0.0);
             EXPECT_TRUE(f.f.allFinite());
@@ -156,8 +154,7 @@ TEST(ContactLaw, CutoffDistanceBoundsTheForce) {
     EXPECT_LT(c, tol);
   }
   // sigma log(sigma k / tol) asymptotics: 0.01 * log(20 / 1e-6) = 0.168 m.
-  EXPECT_NEAR(ContactCutoffDistance(Params(2000.0, 0.01, 0.1), 1e-6), 0.01 * std::log(2e7),
-              1e-8);
+  EXPECT_NEAR(ContactCutoffDistance(Params(2000.0, 0.01, 0.1), 1e-6), 0.01 * std::log(2e7), 1e-8);
   // A huge tolerance gives a finite (negative) cut-off.
   EXPECT_TRUE(std::isfinite(ContactCutoffDistance(Params(1.0, 1e-5, 0.1), 1e9)));
 }

@@ -37,8 +37,8 @@ TEST(ClosedLoop, SpinnerOnTheBuiltinPlantKeepsSpinning) {
   const double gained = plant->q()(spinner) - config.problem.q_init(spinner);
   EXPECT_GT(gained, 0.5) << "the spinner turned " << gained << " rad in 1.5 s";
   // Logs: one re-plan per control period (after t = 0), every state finite.
-  EXPECT_NEAR(static_cast<double>(log.solve_time.size()),
-              1.5 * mpc.controller.control_rate - 1, 1.0);
+  EXPECT_NEAR(static_cast<double>(log.solve_time.size()), 1.5 * mpc.controller.control_rate - 1,
+              1.0);
   EXPECT_EQ(log.num_rejected_plans, 0);
   for (const Eigen::VectorXd& q : log.q) ASSERT_TRUE(q.allFinite());
   // Timing itself is measured by benchmarks, not asserted here (a sanitizer build is slow).
@@ -84,9 +84,8 @@ TEST(MpcConfig, ErrorsNameTheKey) {
   ExampleConfig config = LoadSpinner();
   auto throws = [&](const std::string& yaml, const std::string& text) {
     config.mpc = yaml;
-    EXPECT_THAT([&] { ParseMpcConfig(config); },
-                ::testing::ThrowsMessage<FileError>(AllOf(HasSubstr("spinner.yaml"),
-                                                          HasSubstr(text))));
+    EXPECT_THAT([&] { ParseMpcConfig(config); }, ::testing::ThrowsMessage<FileError>(AllOf(
+                                                     HasSubstr("spinner.yaml"), HasSubstr(text))));
   };
   throws("control_rate: -5", "mpc.control_rate (line 1): is -5; expected a positive number");
   throws("plant: gazebo", "mpc.plant (line 1): is \"gazebo\"; expected mujoco or builtin");

@@ -64,8 +64,11 @@ TEST(CubicSpline, ReproducesLinesExactlyAndExtendsLinearly) {
 
 TEST(CubicSpline, BadKnotsAreErrors) {
   const std::vector<Eigen::VectorXd> two(2, Eigen::VectorXd::Zero(1));
-  EXPECT_THAT([&] { CubicSpline({0.0, 0.0}, two); },
-              ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("times[1] is 0")));
+  EXPECT_THAT(
+      [&] {
+        CubicSpline({0.0, 0.0}, two);
+      },
+      ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("times[1] is 0")));
   EXPECT_THAT([&] { CubicSpline({0.0}, {Eigen::VectorXd::Zero(1)}); },
               ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("at least 2")));
 }

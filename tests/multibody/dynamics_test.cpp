@@ -222,11 +222,11 @@ TEST(Dynamics, SizeErrorsNameTheArgument) {
   const Eigen::VectorXd v = Eigen::VectorXd::Zero(model.nv());
   const Eigen::VectorXd bad = Eigen::VectorXd::Zero(model.nv() + 1);
   using ::testing::HasSubstr;
-  EXPECT_THAT([&] { InverseDynamics(model, q, v, bad, &data); },
-              ::testing::ThrowsMessage<InvalidArgument>(AllOf(
-                  HasSubstr("InverseDynamics"), HasSubstr("a is of size " +
-                                                          std::to_string(model.nv() + 1)),
-                  HasSubstr("model.nv()"))));
+  EXPECT_THAT(
+      [&] { InverseDynamics(model, q, v, bad, &data); },
+      ::testing::ThrowsMessage<InvalidArgument>(AllOf(
+          HasSubstr("InverseDynamics"), HasSubstr("a is of size " + std::to_string(model.nv() + 1)),
+          HasSubstr("model.nv()"))));
   EXPECT_THAT([&] { MassMatrix(model, v, &data); },
               ::testing::ThrowsMessage<InvalidArgument>(
                   AllOf(HasSubstr("MassMatrix"), HasSubstr("q is of size"),

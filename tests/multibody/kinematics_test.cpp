@@ -99,8 +99,8 @@ TEST(Kinematics, NMapsVelocitiesToConfigurationRates) {
     Integrate(model, q, v, h, &qp);
     Integrate(model, q, v, -h, &qm);
     EXPECT_EIGEN_NEAR(Eigen::VectorXd(N * v), Eigen::VectorXd((qp - qm) / (2 * h)), 1e-8);
-    EXPECT_EIGEN_NEAR(Eigen::MatrixXd(Nplus * N),
-                      Eigen::MatrixXd::Identity(model.nv(), model.nv()), 1e-14);
+    EXPECT_EIGEN_NEAR(Eigen::MatrixXd(Nplus * N), Eigen::MatrixXd::Identity(model.nv(), model.nv()),
+                      1e-14);
   }
 }
 

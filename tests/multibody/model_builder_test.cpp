@@ -95,19 +95,19 @@ TEST(ModelBuilder, ErrorsNameTheBodyTheValueAndWhatWasExpected) {
   ModelBuilder builder;
   builder.AddBody("link", UnitInertia(), kWorldBody, Revolute("hinge"));
   EXPECT_THAT([&] { builder.AddBody("link", UnitInertia(), kWorldBody, Revolute("other")); },
-              ThrowsMessage<InvalidArgument>(AllOf(HasSubstr("body name"),
-                                                   HasSubstr("\"link\" (already used)"))));
-  EXPECT_THAT([&] { builder.AddBody("b2", UnitInertia(), kWorldBody, Revolute("hinge")); },
-              ThrowsMessage<InvalidArgument>(AllOf(HasSubstr("joint name"),
-                                                   HasSubstr("\"hinge\""))));
+              ThrowsMessage<InvalidArgument>(
+                  AllOf(HasSubstr("body name"), HasSubstr("\"link\" (already used)"))));
+  EXPECT_THAT(
+      [&] { builder.AddBody("b2", UnitInertia(), kWorldBody, Revolute("hinge")); },
+      ThrowsMessage<InvalidArgument>(AllOf(HasSubstr("joint name"), HasSubstr("\"hinge\""))));
   EXPECT_THAT([&] { builder.AddBody("b3", UnitInertia(), 7, Revolute("j3")); },
               ThrowsMessage<InvalidArgument>(AllOf(HasSubstr("parent of body \"b3\" is 7"),
                                                    HasSubstr("existing body index"))));
   BodyInertia negative = UnitInertia();
   negative.mass = -1.0;
   EXPECT_THAT([&] { builder.AddBody("b4", negative, kWorldBody, Revolute("j4")); },
-              ThrowsMessage<InvalidArgument>(AllOf(HasSubstr("mass of body \"b4\" is -1"),
-                                                   HasSubstr("non-negative"))));
+              ThrowsMessage<InvalidArgument>(
+                  AllOf(HasSubstr("mass of body \"b4\" is -1"), HasSubstr("non-negative"))));
   BodyInertia indefinite = UnitInertia();
   indefinite.I_BBcm_B(0, 0) = -0.01;
   EXPECT_THAT([&] { builder.AddBody("b5", indefinite, kWorldBody, Revolute("j5")); },
@@ -123,8 +123,8 @@ TEST(ModelBuilder, ErrorsNameTheBodyTheValueAndWhatWasExpected) {
   JointSpec zero_axis = Revolute("j8");
   zero_axis.axis.setZero();
   EXPECT_THAT([&] { builder.AddBody("b8", UnitInertia(), kWorldBody, zero_axis); },
-              ThrowsMessage<InvalidArgument>(AllOf(HasSubstr("axis of joint \"j8\" is (0, 0, 0)"),
-                                                   HasSubstr("non-zero"))));
+              ThrowsMessage<InvalidArgument>(
+                  AllOf(HasSubstr("axis of joint \"j8\" is (0, 0, 0)"), HasSubstr("non-zero"))));
   JointSpec damped = Revolute("j9");
   damped.damping = -0.1;
   EXPECT_THAT([&] { builder.AddBody("b9", UnitInertia(), kWorldBody, damped); },
@@ -175,9 +175,9 @@ TEST(ModelBuilder, UnknownNamesThrow) {
   ModelBuilder builder;
   builder.AddBody("link", UnitInertia(), kWorldBody, Revolute("hinge"));
   const Model model = builder.Build();
-  EXPECT_THAT([&] { model.GetBodyIndex("nope"); },
-              ThrowsMessage<InvalidArgument>(AllOf(HasSubstr("GetBodyIndex"),
-                                                   HasSubstr("\"nope\""))));
+  EXPECT_THAT(
+      [&] { model.GetBodyIndex("nope"); },
+      ThrowsMessage<InvalidArgument>(AllOf(HasSubstr("GetBodyIndex"), HasSubstr("\"nope\""))));
   EXPECT_THAT([&] { model.GetPositionStart("nope"); },
               ThrowsMessage<InvalidArgument>(HasSubstr("GetPositionStart")));
   EXPECT_THAT([&] { model.GetVelocityStart("nope"); },

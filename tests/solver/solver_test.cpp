@@ -66,8 +66,8 @@ Model BallAndFinger() {
   j1.type = JointType::kRevolute;
   j1.axis = Eigen::Vector3d::UnitY();
   j1.X_PJ.translation() << -0.3, 0.0, 0.3;
-  const BodyIndex l1 = b.AddBody("l1", PointLikeMass(0.3, Eigen::Vector3d(0.1, 0, 0)),
-                                 kWorldBody, j1);
+  const BodyIndex l1 =
+      b.AddBody("l1", PointLikeMass(0.3, Eigen::Vector3d(0.1, 0, 0)), kWorldBody, j1);
   JointSpec j2 = j1;
   j2.name = "j2";
   j2.X_PJ.translation() << 0.2, 0.0, 0.0;
@@ -283,10 +283,9 @@ Model Pusher() {
     j.name = std::string(name) + "_x";
     j.type = JointType::kPrismatic;
     j.axis = Eigen::Vector3d::UnitX();
-    const BodyIndex body = b.AddBody(name, PointLikeMass(1.0, Eigen::Vector3d::Zero()),
-                                     kWorldBody, j);
-    b.AddGeometry(std::string(name) + "_sphere", body, Eigen::Isometry3d::Identity(),
-                  Sphere{0.1});
+    const BodyIndex body =
+        b.AddBody(name, PointLikeMass(1.0, Eigen::Vector3d::Zero()), kWorldBody, j);
+    b.AddGeometry(std::string(name) + "_sphere", body, Eigen::Isometry3d::Identity(), Sphere{0.1});
   }
   b.SetGravity(Eigen::Vector3d::Zero());
   return b.Build();

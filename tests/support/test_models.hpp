@@ -41,8 +41,8 @@ struct RandomTreeOptions {
   BaseType base{BaseType::kFloating};
   bool include_prismatic{true};
   bool include_welds{true};
-  bool include_planar{true};      ///< a planar joint deeper in the tree
-  bool include_floating{true};    ///< a floating joint deeper in the tree (not at the root)
+  bool include_planar{true};    ///< a planar joint deeper in the tree
+  bool include_floating{true};  ///< a floating joint deeper in the tree (not at the root)
   bool with_damping{true};
   Eigen::Vector3d gravity{0.0, 0.0, -9.81};
 };
@@ -57,9 +57,15 @@ inline Model RandomTreeModel(std::uint32_t seed, const RandomTreeOptions& option
   root.name = "root_joint";
   root.X_PJ = RandomPose(&rng, 0.5);
   switch (options.base) {
-    case BaseType::kFixed: root.type = JointType::kRevolute; break;
-    case BaseType::kFloating: root.type = JointType::kFloating; break;
-    case BaseType::kPlanar: root.type = JointType::kPlanar; break;
+    case BaseType::kFixed:
+      root.type = JointType::kRevolute;
+      break;
+    case BaseType::kFloating:
+      root.type = JointType::kFloating;
+      break;
+    case BaseType::kPlanar:
+      root.type = JointType::kPlanar;
+      break;
   }
   root.axis = rng.Vector(3).normalized();
   root.damping = options.with_damping ? 0.3 : 0.0;

@@ -63,14 +63,14 @@ struct ContactPair {
 
 /// One evaluated pair.
 struct ContactResult {
-  int pair{0};                ///< index into ContactEngine::pairs()
-  double phi{0.0};            ///< signed distance, m
+  int pair{0};                                         ///< index into ContactEngine::pairs()
+  double phi{0.0};                                     ///< signed distance, m
   Eigen::Vector3d normal_W{Eigen::Vector3d::UnitZ()};  ///< unit, from A to B
   Eigen::Vector3d p_WC{Eigen::Vector3d::Zero()};       ///< contact point (midpoint of witnesses)
-  double vn{0.0};             ///< normal relative velocity (B relative to A), m/s
-  Eigen::Vector3d vt{Eigen::Vector3d::Zero()};         ///< tangential relative velocity, m/s
-  ContactForce force;         ///< force on B at C (A receives the opposite)
-  bool exact{true};           ///< false when the distance came from FCL (approximate)
+  double vn{0.0};                               ///< normal relative velocity (B relative to A), m/s
+  Eigen::Vector3d vt{Eigen::Vector3d::Zero()};  ///< tangential relative velocity, m/s
+  ContactForce force;                           ///< force on B at C (A receives the opposite)
+  bool exact{true};  ///< false when the distance came from FCL (approximate)
 };
 
 /// Per-thread buffers for EvaluateContacts; nothing is allocated during an evaluation.

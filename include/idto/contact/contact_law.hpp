@@ -26,11 +26,11 @@ namespace idto {
 /// Parameters of the contact law. Defaults are the paper's quadruped values (Table 2) with its
 /// recommended dissipation velocity; every example sets its own.
 struct ContactParameters {
-  double stiffness{2000.0};            ///< k, N/m: slope of the normal force in penetration
-  double smoothing{0.01};              ///< sigma, m: force-at-a-distance length scale
-  double dissipation_velocity{0.1};    ///< v_d, m/s: lower is stiffer and less bouncy
-  double friction_coefficient{1.0};    ///< mu, dimensionless
-  double stiction_velocity{0.1};       ///< v_s, m/s: sliding speed during "stiction"
+  double stiffness{2000.0};          ///< k, N/m: slope of the normal force in penetration
+  double smoothing{0.01};            ///< sigma, m: force-at-a-distance length scale
+  double dissipation_velocity{0.1};  ///< v_d, m/s: lower is stiffer and less bouncy
+  double friction_coefficient{1.0};  ///< mu, dimensionless
+  double stiction_velocity{0.1};     ///< v_s, m/s: sliding speed during "stiction"
 
   /// Throws InvalidArgument naming `where`, the field and its value unless every field is
   /// finite and positive (friction may be zero).
@@ -39,9 +39,9 @@ struct ContactParameters {
 
 /// Normal force, friction and their partial derivatives for one contact.
 struct ContactForce {
-  double compliance{0.0};   ///< c(phi), N
-  double dissipation{0.0};  ///< d(v_n), dimensionless
-  double fn{0.0};           ///< normal force magnitude, N (>= 0)
+  double compliance{0.0};                       ///< c(phi), N
+  double dissipation{0.0};                      ///< d(v_n), dimensionless
+  double fn{0.0};                               ///< normal force magnitude, N (>= 0)
   Eigen::Vector3d ft{Eigen::Vector3d::Zero()};  ///< friction force on B, N (world)
   Eigen::Vector3d f{Eigen::Vector3d::Zero()};   ///< total force on B: fn n + ft, N (world)
 

@@ -72,7 +72,9 @@ struct SpatialForce {
 };
 
 /// Power: the scalar product of a motion and a force expressed in the same frame.
-inline double Dot(const SpatialMotion& m, const SpatialForce& F) { return m.w.dot(F.n) + m.v.dot(F.f); }
+inline double Dot(const SpatialMotion& m, const SpatialForce& F) {
+  return m.w.dot(F.n) + m.v.dot(F.f);
+}
 
 /// Motion cross product m1 x m2 = [w1 x w2; w1 x v2 + v1 x w2].
 inline SpatialMotion Cross(const SpatialMotion& m1, const SpatialMotion& m2) {
@@ -139,11 +141,14 @@ struct SpatialInertia {
   static SpatialInertia FromMassComInertia(double m, const Eigen::Vector3d& c,
                                            const Eigen::Matrix3d& I_c) {
     // Ibar = I_c + m ([c]x [c]x)^T = I_c + m (|c|^2 I - c c^T) (parallel axis theorem).
-    return {m, m * c, I_c + m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose())};
+    return {m, m * c,
+            I_c + m * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose())};
   }
   static SpatialInertia Zero() { return {}; }
 
-  Eigen::Vector3d com() const { return mass > 0.0 ? Eigen::Vector3d(h / mass) : Eigen::Vector3d::Zero(); }
+  Eigen::Vector3d com() const {
+    return mass > 0.0 ? Eigen::Vector3d(h / mass) : Eigen::Vector3d::Zero();
+  }
   /// Rotational inertia about the centre of mass.
   Eigen::Matrix3d InertiaAboutCom() const {
     if (mass <= 0.0) return Ibar;

@@ -28,20 +28,22 @@ enum class BaseType { kFixed, kFloating, kPlanar };
 /// Number of position coordinates of a joint type.
 constexpr int JointNq(JointType type) {
   switch (type) {
-    case JointType::kFixed: return 0;
+    case JointType::kFixed:
+      return 0;
     case JointType::kRevolute:
     case JointType::kContinuous:
-    case JointType::kPrismatic: return 1;
-    case JointType::kPlanar: return 3;
-    case JointType::kFloating: return 7;
+    case JointType::kPrismatic:
+      return 1;
+    case JointType::kPlanar:
+      return 3;
+    case JointType::kFloating:
+      return 7;
   }
   return 0;
 }
 
 /// Number of velocity coordinates of a joint type.
-constexpr int JointNv(JointType type) {
-  return type == JointType::kFloating ? 6 : JointNq(type);
-}
+constexpr int JointNv(JointType type) { return type == JointType::kFloating ? 6 : JointNq(type); }
 
 /// "fixed", "revolute", "continuous", "prismatic", "planar" or "floating".
 std::string JointTypeName(JointType type);

@@ -19,11 +19,11 @@ namespace idto {
 
 /// The joint that attaches a new body to its parent.
 struct JointSpec {
-  std::string name;                                        ///< unique within the model
+  std::string name;  ///< unique within the model
   JointType type{JointType::kRevolute};
-  Eigen::Isometry3d X_PJ{Eigen::Isometry3d::Identity()};   ///< joint frame J in the parent P
-  Eigen::Vector3d axis{Eigen::Vector3d::UnitZ()};          ///< in J; normalized by the builder
-  double damping{0.0};                                     ///< N·m·s/rad or N·s/m, every DoF
+  Eigen::Isometry3d X_PJ{Eigen::Isometry3d::Identity()};  ///< joint frame J in the parent P
+  Eigen::Vector3d axis{Eigen::Vector3d::UnitZ()};         ///< in J; normalized by the builder
+  double damping{0.0};                                    ///< N·m·s/rad or N·s/m, every DoF
   double effort_limit{std::numeric_limits<double>::infinity()};
   double lower_limit{-std::numeric_limits<double>::infinity()};  ///< 1-DoF joints only
   double upper_limit{std::numeric_limits<double>::infinity()};
@@ -53,8 +53,8 @@ class ModelBuilder {
   FrameIndex AddFrame(const std::string& name, BodyIndex body, const Eigen::Isometry3d& X_BF);
 
   /// Adds collision geometry to `body` (kWorldBody for the world). Names must be unique.
-  GeometryIndex AddGeometry(const std::string& name, BodyIndex body,
-                            const Eigen::Isometry3d& X_BG, const Shape& shape);
+  GeometryIndex AddGeometry(const std::string& name, BodyIndex body, const Eigen::Isometry3d& X_BG,
+                            const Shape& shape);
 
   /// Gravity in the world frame, default (0, 0, -9.81).
   void SetGravity(const Eigen::Vector3d& gravity);

@@ -19,15 +19,15 @@ enum class DerivativeMethod { kForwardDifferences, kCentralDifferences };
 
 /// Diagonal scaling D of the trust region.
 enum class ScalingMethod {
-  kNone,          ///< D = I
-  kSqrt,          ///< D = diag(H)^(-1/2)
-  kDoubleSqrt     ///< D = diag(H)^(-1/4): the paper's choice
+  kNone,       ///< D = I
+  kSqrt,       ///< D = diag(H)^(-1/2)
+  kDoubleSqrt  ///< D = diag(H)^(-1/4): the paper's choice
 };
 
 /// Solver options with documented defaults. Check with IsValid().
 struct SolverOptions {
-  int max_iterations{100};           ///< iterations (each: derivatives, factorization, trial)
-  int num_threads{1};                ///< threads for per-step work (results do not depend on it)
+  int max_iterations{100};  ///< iterations (each: derivatives, factorization, trial)
+  int num_threads{1};       ///< threads for per-step work (results do not depend on it)
   ConstraintMethod constraint_method{ConstraintMethod::kPenalty};
   /// kPenalty: when > 0, the weight w of w/2 |h|^2, placed on R's unactuated entries (paper
   /// §5.2.1); 0 keeps R's unactuated entries as given (the paper's tables set them in R).
@@ -38,7 +38,7 @@ struct SolverOptions {
 
   double initial_trust_radius{1e-1};  ///< in scaled coordinates
   double max_trust_radius{1e3};
-  double acceptance_ratio{0.05};      ///< eta: accept the step when rho > eta
+  double acceptance_ratio{0.05};  ///< eta: accept the step when rho > eta
 
   /// Convergence (all on by default; set a tolerance to 0 to disable it):
   double cost_tolerance{1e-10};      ///< |L_new - L| / max(|L|, 1) after an accepted step
@@ -47,7 +47,7 @@ struct SolverOptions {
   /// Runs exactly max_iterations (MPC); convergence tests are skipped.
   bool fixed_iterations{false};
 
-  int verbosity{0};                  ///< 0 silent, 1 a line per iteration (to stdout)
+  int verbosity{0};  ///< 0 silent, 1 a line per iteration (to stdout)
 
   /// True when every field is valid; otherwise false with the reason in *why.
   bool IsValid(std::string* why) const;

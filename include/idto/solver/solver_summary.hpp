@@ -9,11 +9,11 @@
 namespace idto {
 
 enum class TerminationType {
-  kConverged,      ///< a convergence criterion was met
-  kMaxIterations,  ///< ran out of iterations (the normal outcome with fixed_iterations)
-  kFailure,        ///< numerical trouble (non-finite cost, failed factorization); last good
-                   ///< iterate kept
-  kUserTermination ///< a callback asked to stop
+  kConverged,       ///< a convergence criterion was met
+  kMaxIterations,   ///< ran out of iterations (the normal outcome with fixed_iterations)
+  kFailure,         ///< numerical trouble (non-finite cost, failed factorization); last good
+                    ///< iterate kept
+  kUserTermination  ///< a callback asked to stop
 };
 
 /// "converged", "max_iterations", "failure" or "user".
@@ -25,13 +25,13 @@ enum class DoglegStep { kNewton, kCauchy, kDogleg, kNone };
 /// Statistics of one iteration.
 struct IterationSummary {
   int iteration{0};
-  double cost{0.0};                  ///< L at the start of the iteration
-  double merit{0.0};                 ///< L + h^T lambda (= cost without multipliers)
-  double gradient_norm{0.0};         ///< |g| (of the merit with multipliers)
-  double step_norm{0.0};             ///< |p|
-  double scaled_step_norm{0.0};      ///< |D^-1 p|
-  double trust_radius{0.0};          ///< radius used for this step
-  double ratio{0.0};                 ///< rho = actual / predicted reduction
+  double cost{0.0};              ///< L at the start of the iteration
+  double merit{0.0};             ///< L + h^T lambda (= cost without multipliers)
+  double gradient_norm{0.0};     ///< |g| (of the merit with multipliers)
+  double step_norm{0.0};         ///< |p|
+  double scaled_step_norm{0.0};  ///< |D^-1 p|
+  double trust_radius{0.0};      ///< radius used for this step
+  double ratio{0.0};             ///< rho = actual / predicted reduction
   bool accepted{false};
   DoglegStep step_type{DoglegStep::kNone};
   double constraint_violation{0.0};  ///< sum of squared unactuated generalized forces

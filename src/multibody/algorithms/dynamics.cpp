@@ -107,8 +107,8 @@ const Eigen::VectorXd& InverseDynamicsAfterKinematics(const Model& model,
   model.CheckVelocity("InverseDynamicsAfterKinematics", "v", v);
   model.CheckVelocity("InverseDynamicsAfterKinematics", "a", a);
   if (F_ext != nullptr && F_ext->cols() != model.num_bodies()) {
-    CheckSize("InverseDynamicsAfterKinematics", "F_ext->cols()", F_ext->cols(),
-              model.num_bodies(), "model.num_bodies()");
+    CheckSize("InverseDynamicsAfterKinematics", "F_ext->cols()", F_ext->cols(), model.num_bodies(),
+              "model.num_bodies()");
   }
   Rnea(model, nullptr, v.data(), a.data(), F_ext, data, /*kinematics_done=*/true);
   return data->tau;

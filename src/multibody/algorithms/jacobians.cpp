@@ -35,16 +35,14 @@ void CalcPointJacobian(const Model& model, const Data& data, BodyIndex b,
   CheckBody(model, "CalcPointJacobian", b);
   J->setZero(3, model.nv());
   const Eigen::Vector3d p_WC = data.X_WB_[b] * p_BC;
-  ForEachSupportingDof(model, data, b,
-                       [&](int col, const Eigen::Vector3d& w, const Eigen::Vector3d& v,
-                           const Eigen::Vector3d& p_WMo) {
-                         J->col(col) = v + w.cross(p_WC - p_WMo);
-                       });
+  ForEachSupportingDof(
+      model, data, b,
+      [&](int col, const Eigen::Vector3d& w, const Eigen::Vector3d& v,
+          const Eigen::Vector3d& p_WMo) { J->col(col) = v + w.cross(p_WC - p_WMo); });
 }
 
 void CalcFrameJacobian(const Model& model, const Data& data, BodyIndex b,
-                       const Eigen::Isometry3d& X_BF,
-                       Eigen::Matrix<double, 6, Eigen::Dynamic>* J) {
+                       const Eigen::Isometry3d& X_BF, Eigen::Matrix<double, 6, Eigen::Dynamic>* J) {
   CheckBody(model, "CalcFrameJacobian", b);
   J->setZero(6, model.nv());
   const Eigen::Vector3d p_WF = data.X_WB_[b] * Eigen::Vector3d(X_BF.translation());

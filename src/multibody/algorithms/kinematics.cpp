@@ -51,8 +51,7 @@ void Kinematics(const Model& model, const double* q, const double* v, Data* data
 
 }  // namespace
 
-void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
-                       Data* data) {
+void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q, Data* data) {
   model.CheckConfiguration("ForwardKinematics", "q", q);
   Kinematics(model, q.data(), nullptr, data);
 }
@@ -63,7 +62,6 @@ void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorX
   model.CheckVelocity("ForwardKinematics", "v", v);
   Kinematics(model, q.data(), v.data(), data);
 }
-
 
 void CalcNMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                  Eigen::MatrixXd* N) {

@@ -56,7 +56,7 @@ struct Corner {
   double weight_scale{1.0};
   double ball_height{0.049};  // deep penetration when well below 0.05
   double ball_speed{0.0};
-  double quaternion_w{1.0};   // near -1 / 0 for sign-flip corners
+  double quaternion_w{1.0};  // near -1 / 0 for sign-flip corners
   ConstraintMethod method{ConstraintMethod::kPenalty};
   int iterations{30};
 };
@@ -87,8 +87,7 @@ void RunCorner(const Corner& c) {
   o.constraint_method = c.method;
   TrajectoryOptimizer opt(model, p, o);
   Trajectory sol;
-  const SolverSummary s =
-      opt.Solve(std::vector<Eigen::VectorXd>(c.N + 1, p.q_init), &sol);
+  const SolverSummary s = opt.Solve(std::vector<Eigen::VectorXd>(c.N + 1, p.q_init), &sol);
   ASSERT_EQ(sol.q.size(), static_cast<size_t>(c.N + 1));
   for (int k = 0; k <= c.N; ++k) {
     ASSERT_TRUE(sol.q[k].allFinite()) << "q[" << k << "]";

@@ -11,8 +11,7 @@
 namespace idto {
 
 /// Body poses for configuration q (nq). Velocities in data are left unchanged.
-void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
-                       Data* data);
+void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q, Data* data);
 
 /// Body poses and spatial velocities for q (nq) and v (nv).
 void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
