@@ -372,31 +372,38 @@ void WriteMetrics(const idto::examples::TaskResult& task, JsonWriter* json) {
   }
 }
 
+/// The summary keys common to both modes (design.md §5b): example, file, termination,
+/// iterations, costs, violation, times. In --mpc mode they describe the initial (cold) solve.
+void WriteSolveFields(const ExampleConfig& config, const std::string& config_path,
+                      const SolverSummary& summary, JsonWriter* json) {
+  json->Key("example");
+  json->String(config.name);
+  json->Key("config_file");
+  json->String(config_path);
+  json->Key("termination");
+  json->String(idto::TerminationTypeName(summary.termination));
+  json->Key("message");
+  json->String(summary.message);
+  json->Key("iterations");
+  json->Int(summary.iterations);
+  json->Key("initial_cost");
+  json->Number(summary.initial_cost);
+  json->Key("final_cost");
+  json->Number(summary.final_cost);
+  json->Key("constraint_violation");
+  json->Number(summary.constraint_violation);
+  json->Key("solve_time_s");
+  json->Number(summary.solve_time);
+  json->Key("mean_iteration_time_s");
+  json->Number(summary.mean_iteration_time());
+}
+
 std::string MakeSummaryJson(const ExampleConfig& config, const std::string& config_path,
                             const idto::SolverOptions& options, const SolverSummary& summary,
                             const Trajectory& solution, const idto::examples::TaskResult& task) {
   JsonWriter json;
   json.BeginObject();
-  json.Key("example");
-  json.String(config.name);
-  json.Key("config_file");
-  json.String(config_path);
-  json.Key("termination");
-  json.String(idto::TerminationTypeName(summary.termination));
-  json.Key("message");
-  json.String(summary.message);
-  json.Key("iterations");
-  json.Int(summary.iterations);
-  json.Key("initial_cost");
-  json.Number(summary.initial_cost);
-  json.Key("final_cost");
-  json.Number(summary.final_cost);
-  json.Key("constraint_violation");
-  json.Number(summary.constraint_violation);
-  json.Key("solve_time_s");
-  json.Number(summary.solve_time);
-  json.Key("mean_iteration_time_s");
-  json.Number(summary.mean_iteration_time());
+  WriteSolveFields(config, config_path, summary, &json);
   json.Key("constraint_method");
   json.String(ConstraintMethodName(options.constraint_method));
   json.Key("num_threads");
@@ -696,24 +703,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
   if (!args.summary_json.empty()) {
     JsonWriter json;
     json.BeginObject();
-    json.Key("example");
-    json.String(config.name);
-    json.Key("config_file");
-    json.String(config_path);
-    json.Key("termination");
-    json.String(idto::TerminationTypeName(first.termination));
-    json.Key("iterations");
-    json.Int(first.iterations);
-    json.Key("initial_cost");
-    json.Number(first.initial_cost);
-    json.Key("final_cost");
-    json.Number(first.final_cost);
-    json.Key("constraint_violation");
-    json.Number(first.constraint_violation);
-    json.Key("solve_time_s");
-    json.Number(first.solve_time);
-    json.Key("mean_iteration_time_s");
-    json.Number(first.mean_iteration_time());
+    WriteSolveFields(config, config_path, first, &json);
     json.Key("q_final");
     json.NumberArray(plant->q());
     json.Key("mpc");

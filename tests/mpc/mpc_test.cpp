@@ -9,10 +9,12 @@
 #include "idto/mpc/controller.hpp"
 #include "support/eigen_matchers.hpp"
 #include "support/random.hpp"
+#include "support/test_models.hpp"
 
 namespace idto::mpc {
 namespace {
 
+using test::Pendulum;
 using ::testing::HasSubstr;
 
 TEST(CubicSpline, InterpolatesKnotsAndIsTwiceContinuouslyDifferentiable) {
@@ -109,21 +111,6 @@ TEST(PdController, SignsUnitsAndUnactuatedDofs) {
   gains.Kp(6) = -1.0;
   EXPECT_THAT([&] { PdController(model, {6}, gains); },
               ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("gains.Kp(6) is -1")));
-}
-
-Model Pendulum() {
-  ModelBuilder b("pendulum");
-  JointSpec j;
-  j.name = "hinge";
-  j.type = JointType::kRevolute;
-  j.axis = Eigen::Vector3d::UnitY();
-  j.damping = 0.1;
-  BodyInertia I;
-  I.mass = 1.0;
-  I.p_BBcm << 0, 0, -1;
-  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 1e-3;
-  b.AddBody("link", I, kWorldBody, j);
-  return b.Build();
 }
 
 ProblemDefinition SwingUp(const Model& model) {

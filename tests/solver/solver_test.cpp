@@ -11,31 +11,15 @@
 #include "support/allocation_counter.hpp"
 #include "support/eigen_matchers.hpp"
 #include "support/random.hpp"
+#include "support/test_models.hpp"
 
 namespace idto {
 namespace {
 
+using test::BallAndFinger;
+using test::Pendulum;
+using test::PointLikeMass;
 using ::testing::HasSubstr;
-
-BodyInertia PointLikeMass(double m, const Eigen::Vector3d& com) {
-  BodyInertia I;
-  I.mass = m;
-  I.p_BBcm = com;
-  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 1e-3 * m;
-  return I;
-}
-
-// 1 kg at 1 m on a hinge about y; q = 0 hangs down, q = pi is upright.
-Model Pendulum(double damping = 0.1) {
-  ModelBuilder b("pendulum");
-  JointSpec j;
-  j.name = "hinge";
-  j.type = JointType::kRevolute;
-  j.axis = Eigen::Vector3d::UnitY();
-  j.damping = damping;
-  b.AddBody("link", PointLikeMass(1.0, Eigen::Vector3d(0, 0, -1)), kWorldBody, j);
-  return b.Build();
-}
 
 // A mass on a horizontal slider: tau = m a exactly, so every residual is linear in q.
 Model Slider() {
@@ -45,36 +29,6 @@ Model Slider() {
   j.type = JointType::kPrismatic;
   j.axis = Eigen::Vector3d::UnitX();
   b.AddBody("cart", PointLikeMass(2.0, Eigen::Vector3d::Zero()), kWorldBody, j);
-  return b.Build();
-}
-
-// A free ball above the ground and a two-link finger that can touch it: a floating base with
-// contact.
-Model BallAndFinger() {
-  ModelBuilder b("ball_and_finger");
-  b.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
-  JointSpec free;
-  free.name = "ball_free";
-  free.type = JointType::kFloating;
-  BodyInertia ball;
-  ball.mass = 0.2;
-  ball.I_BBcm_B = Eigen::Matrix3d::Identity() * 0.4 * 0.2 * 0.05 * 0.05;
-  const BodyIndex bb = b.AddBody("ball", ball, kWorldBody, free);
-  b.AddGeometry("ball_sphere", bb, Eigen::Isometry3d::Identity(), Sphere{0.05});
-  JointSpec j1;
-  j1.name = "j1";
-  j1.type = JointType::kRevolute;
-  j1.axis = Eigen::Vector3d::UnitY();
-  j1.X_PJ.translation() << -0.3, 0.0, 0.3;
-  const BodyIndex l1 =
-      b.AddBody("l1", PointLikeMass(0.3, Eigen::Vector3d(0.1, 0, 0)), kWorldBody, j1);
-  JointSpec j2 = j1;
-  j2.name = "j2";
-  j2.X_PJ.translation() << 0.2, 0.0, 0.0;
-  const BodyIndex l2 = b.AddBody("l2", PointLikeMass(0.2, Eigen::Vector3d(0.1, 0, 0)), l1, j2);
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.translation() << 0.2, 0.0, 0.0;
-  b.AddGeometry("tip", l2, X, Sphere{0.02});
   return b.Build();
 }
 

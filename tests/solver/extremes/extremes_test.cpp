@@ -8,45 +8,12 @@
 #include <gtest/gtest.h>
 
 #include "idto/idto.hpp"
+#include "support/test_models.hpp"
 
 namespace idto {
 namespace {
 
-BodyInertia Mass(double m, const Eigen::Vector3d& com) {
-  BodyInertia I;
-  I.mass = m;
-  I.p_BBcm = com;
-  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 1e-3 * m;
-  return I;
-}
-
-// A free ball on the ground and a two-link finger (floating base, contact, quaternions).
-Model BallAndFinger() {
-  ModelBuilder b("ball_and_finger");
-  b.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
-  JointSpec free;
-  free.name = "ball_free";
-  free.type = JointType::kFloating;
-  BodyInertia ball;
-  ball.mass = 0.2;
-  ball.I_BBcm_B = Eigen::Matrix3d::Identity() * 2e-4;
-  const BodyIndex bb = b.AddBody("ball", ball, kWorldBody, free);
-  b.AddGeometry("ball_sphere", bb, Eigen::Isometry3d::Identity(), Sphere{0.05});
-  JointSpec j1;
-  j1.name = "j1";
-  j1.type = JointType::kRevolute;
-  j1.axis = Eigen::Vector3d::UnitY();
-  j1.X_PJ.translation() << -0.3, 0.0, 0.3;
-  const BodyIndex l1 = b.AddBody("l1", Mass(0.3, Eigen::Vector3d(0.1, 0, 0)), kWorldBody, j1);
-  JointSpec j2 = j1;
-  j2.name = "j2";
-  j2.X_PJ.translation() << 0.2, 0.0, 0.0;
-  const BodyIndex l2 = b.AddBody("l2", Mass(0.2, Eigen::Vector3d(0.1, 0, 0)), l1, j2);
-  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-  X.translation() << 0.2, 0.0, 0.0;
-  b.AddGeometry("tip", l2, X, Sphere{0.02});
-  return b.Build();
-}
+using test::BallAndFinger;
 
 struct Corner {
   std::string name;
