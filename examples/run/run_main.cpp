@@ -40,6 +40,7 @@
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "idto_build_paths.hpp"
 #include "run/metrics.hpp"
+#include "run/metrics_closed_loop.hpp"
 
 namespace {
 
@@ -644,21 +645,6 @@ int Run(const Arguments& args, const char* argv0) {
 
 // ---------------------------------------------------------------------------- MPC
 
-/// The closed-loop trajectory resampled at the planner's time step, as a Trajectory, so that
-/// the example's task measure applies to it.
-Trajectory ClosedLoopTrajectory(const idto::mpc::ClosedLoopLog& log, double dt) {
-  Trajectory t;
-  double next = 0.0;
-  for (size_t k = 0; k < log.t.size(); ++k) {
-    if (log.t[k] + 1e-9 < next) continue;
-    t.q.push_back(log.q[k]);
-    t.v.push_back(log.v[k]);
-    t.tau.push_back(log.u[k]);
-    next += dt;
-  }
-  return t;
-}
-
 int RunMpc(const Arguments& args, const char* argv0) {
   std::vector<std::string> share_dirs =
       idto::DefaultShareDirs(IDTO_SOURCE_SHARE_DIR, ExecutablePath(argv0));
@@ -683,14 +669,17 @@ int RunMpc(const Arguments& args, const char* argv0) {
                                                 ? idto::sim::MakeMujocoPlant(model, mpc.mujoco)
                                                 : idto::sim::MakeBuiltinPlant(model, mpc.builtin);
   plant->Reset(config.problem.q_init, config.problem.v_init);
-  idto::mpc::Controller controller(model, config.problem, options, mpc.controller);
+  const idto::ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
+  idto::mpc::Controller controller(model, problem, options, mpc.controller);
   const SolverSummary first =
       controller.Initialize(idto::MakeInitialGuess(config), mpc.initial_iterations);
   std::cout << "  initial plan: " << first.BriefReport() << "\n";
   const idto::mpc::ClosedLoopLog log =
       idto::mpc::RunClosedLoop(model, mpc.closed_loop, &controller, plant.get());
-  const Trajectory closed = ClosedLoopTrajectory(log, config.problem.time_step);
-  const idto::examples::TaskResult task = idto::examples::EvaluateTask(config, closed);
+  const idto::examples::TaskResult task = idto::examples::EvaluateClosedLoopTask(config, log);
+  if (!log.failure.empty()) {
+    std::cout << "  plant failed at t = " << log.failure_time << " s: " << log.failure << "\n";
+  }
   std::cout << "result (closed loop):\n"
             << "  re-plans: " << log.solve_time.size() << ", rejected: " << log.num_rejected_plans
             << "\n"
@@ -728,6 +717,8 @@ int RunMpc(const Arguments& args, const char* argv0) {
     json.Number(log.max_solve_time());
     json.Key("fraction_on_time");
     json.Number(log.fraction_on_time());
+    json.Key("plant_failure");
+    json.String(log.failure);
     json.Key("metrics");
     json.BeginObject();
     WriteMetrics(task, &json);

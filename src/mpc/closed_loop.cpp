@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "idto/core/errors.hpp"
 
@@ -62,6 +63,7 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
   static constexpr const char* kWhere = "RunClosedLoop";
   CheckPositive(kWhere, "options.duration", options.duration);
   CheckPositive(kWhere, "options.plant_time_step", options.plant_time_step);
+  CheckNonNegative(kWhere, "options.fixed_latency", options.fixed_latency);
   if (options.log_every < 1) {
     ThrowInvalidArgument(kWhere, "options.log_every", std::to_string(options.log_every),
                          "at least 1");
@@ -83,6 +85,14 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
   if (gains.Kd.size() == 0) gains.Kd = Eigen::VectorXd::Zero(model.nv());
   const PdController pd(model, controller->options().actuated, gains);
   Eigen::VectorXd q_d, v_d, u_ff, u = Eigen::VectorXd::Zero(model.nv());
+  // Implicit PD damping: the plant applies -Kd v at the end of each step, so the command it
+  // receives is u + Kd v_hat (the same force at v_hat).
+  Eigen::VectorXd kd_implicit = Eigen::VectorXd::Zero(model.nv());
+  if (options.implicit_damping) {
+    for (int i : controller->options().actuated) kd_implicit(i) = gains.Kd(i);
+  }
+  plant->SetExtraDamping(kd_implicit);
+  Eigen::VectorXd u_plant = u;
 
   for (long step = 0; step < steps; ++step) {
     const double t = step * dt;
@@ -95,8 +105,10 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
       log.solve_status.push_back(static_cast<int>(s.termination));
       if (s.termination != TerminationType::kFailure) {
         pending = controller->plan();
-        pending_at =
-            t + (options.latency == LatencyModel::kSolveTime ? std::max(solve, dt) : period);
+        const double delay = options.latency == LatencyModel::kSolveTime ? solve
+                             : options.latency == LatencyModel::kFixed   ? options.fixed_latency
+                                                                         : period;
+        pending_at = t + std::max(delay, dt);
       }
     }
     if (pending_at >= 0.0 && t + 1e-12 >= pending_at) {
@@ -120,7 +132,15 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
       log.u.push_back(u);
       log.contact.push_back(plant->contact_force_per_body());
     }
-    plant->Advance(dt, u, body, f);
+    try {
+      u_plant = u + kd_implicit.cwiseProduct(plant->v());
+      plant->Advance(dt, u_plant, body, f);
+    } catch (const std::runtime_error& e) {
+      // The plant gave up (e.g. MuJoCo's instability check): keep what was logged and say so.
+      log.failure = e.what();
+      log.failure_time = t;
+      break;
+    }
   }
   log.num_rejected_plans = controller->num_rejected_plans();
   return log;

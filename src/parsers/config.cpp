@@ -594,6 +594,7 @@ class ConfigLoader {
       YAML::Emitter emitter;
       emitter << mpc;
       config_.mpc = emitter.c_str();
+      if (mpc["problem"]) LoadMpcProblem(top.Get("problem"), mpc["problem"]);
     }
     return std::move(config_);
   }
@@ -1017,6 +1018,34 @@ class ConfigLoader {
     } catch (const std::exception& e) {
       reader_.Fail(p.node(), "problem", e.what());
     }
+  }
+
+  // ---------------------------------------------------------------- mpc.problem
+  // The controller's problem: `problem` with the keys of `mpc.problem` replacing the open-loop
+  // ones; `nominal` and `weights` are merged key by key (e.g. only a new q_end).
+  void LoadMpcProblem(const YAML::Node& problem, const YAML::Node& overrides) {
+    const MapReader check(reader_, overrides, "mpc.problem", kProblemKeys);
+    YAML::Node merged = YAML::Clone(problem);
+    for (auto it = overrides.begin(); it != overrides.end(); ++it) {
+      const std::string key = it->first.Scalar();
+      const bool merge = (key == "nominal" || key == "weights") && it->second.IsMap() &&
+                         merged[key] && merged[key].IsMap();
+      if (!merge) {
+        merged[key] = it->second;
+        continue;
+      }
+      YAML::Node sub = YAML::Clone(merged[key]);
+      for (auto jt = it->second.begin(); jt != it->second.end(); ++jt) {
+        sub[jt->first.Scalar()] = jt->second;
+      }
+      merged[key] = sub;
+    }
+    ProblemDefinition open_loop = std::move(config_.problem);
+    const InitialGuessType guess = config_.initial_guess;
+    LoadProblem(MapReader(reader_, merged, "mpc.problem", kProblemKeys));
+    config_.mpc_problem = std::move(config_.problem);
+    config_.problem = std::move(open_loop);
+    config_.initial_guess = guess;
   }
 
   // ---------------------------------------------------------------- solver

@@ -1,6 +1,7 @@
 #include "idto/parsers/mpc_config.hpp"
 
 #include <cmath>
+#include <cstdlib>
 #include <set>
 #include <string>
 
@@ -130,7 +131,8 @@ MpcConfig ParseMpcConfig(const ExampleConfig& config) {
                                               "relative",
                                               "builtin_contact",
                                               "mujoco_friction",
-                                              "disturbances"};
+                                              "disturbances",
+                                              "problem"};  // parsed by LoadExampleConfig
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     if (!kKeys.count(key)) {
@@ -172,7 +174,15 @@ MpcConfig ParseMpcConfig(const ExampleConfig& config) {
     } else if (l == "control_period") {
       m.closed_loop.latency = mpc::LatencyModel::kControlPeriod;
     } else {
-      c.Fail("latency", root["latency"], "is \"" + l + "\"; expected solve_time or control_period");
+      // A number: a fixed delay in seconds (reproducible runs).
+      char* end = nullptr;
+      const double seconds = std::strtod(l.c_str(), &end);
+      if (l.empty() || end != l.c_str() + l.size() || !std::isfinite(seconds) || seconds < 0.0) {
+        c.Fail("latency", root["latency"],
+               "is \"" + l + "\"; expected solve_time, control_period or a delay in seconds >= 0");
+      }
+      m.closed_loop.latency = mpc::LatencyModel::kFixed;
+      m.closed_loop.fixed_latency = seconds;
     }
   }
   if (root["kp"]) m.controller.gains.Kp = VelocityVector(c, "kp", root["kp"]);
@@ -180,14 +190,54 @@ MpcConfig ParseMpcConfig(const ExampleConfig& config) {
   if (root["relative"]) {
     const YAML::Node r = root["relative"];
     if (!r.IsSequence()) c.Fail("relative", r, "is " + Describe(r) + "; expected a list of joints");
+    // Each entry: a joint name (all its position coordinates) or {joint: [coordinate indices
+    // within the joint]} (e.g. only a floating base's x and y).
     for (size_t i = 0; i < r.size(); ++i) {
-      const std::string name = r[i].as<std::string>();
-      if (!model.HasJoint(name))
-        c.Fail("relative[" + std::to_string(i) + "]", r[i],
-               "is \"" + name + "\"; expected a joint of the scene");
+      const std::string path = "relative[" + std::to_string(i) + "]";
+      const YAML::Node entry = r[i];
+      std::string name;
+      YAML::Node coords;
+      bool has_coords = false;
+      if (entry.IsScalar()) {
+        name = entry.as<std::string>();
+      } else if (entry.IsMap() && entry.size() == 1) {
+        name = entry.begin()->first.as<std::string>();
+        coords = entry.begin()->second;
+        has_coords = true;
+      } else {
+        c.Fail(path, entry,
+               "is " + Describe(entry) +
+                   "; expected a joint name or {joint: [coordinate indices within the joint]}");
+      }
+      if (!model.HasJoint(name)) {
+        c.Fail(path, entry, "is \"" + name + "\"; expected a joint of the scene");
+      }
       const JointIndex j = model.GetJointIndex(name);
-      for (int k = 0; k < model.joint_nq(j); ++k) {
-        m.controller.relative_positions.push_back(model.position_start(j) + k);
+      const int nq_j = model.joint_nq(j);
+      if (!has_coords) {
+        for (int k = 0; k < nq_j; ++k) {
+          m.controller.relative_positions.push_back(model.position_start(j) + k);
+        }
+        continue;
+      }
+      if (!coords.IsSequence() || coords.size() == 0) {
+        c.Fail(path + "." + name, coords,
+               "is " + Describe(coords) + "; expected a non-empty list of coordinate indices");
+      }
+      for (size_t k = 0; k < coords.size(); ++k) {
+        const std::string cpath = path + "." + name + "[" + std::to_string(k) + "]";
+        int index = -1;
+        try {
+          index = coords[k].as<int>();
+        } catch (const YAML::Exception&) {
+          c.Fail(cpath, coords[k], "is " + Describe(coords[k]) + "; expected an integer");
+        }
+        if (index < 0 || index >= nq_j) {
+          c.Fail(cpath, coords[k],
+                 "is " + std::to_string(index) + "; expected a coordinate index in [0, " +
+                     std::to_string(nq_j) + ") of joint \"" + name + "\"");
+        }
+        m.controller.relative_positions.push_back(model.position_start(j) + index);
       }
     }
   }

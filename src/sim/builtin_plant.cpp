@@ -94,6 +94,8 @@ class BuiltinPlant final : public Plant {
     contact_force_per_body_ = Eigen::VectorXd::Zero(model_.num_bodies());
     damping_ = model_.damping();
     if (damping_.size() != nv) damping_ = Eigen::VectorXd::Zero(nv);
+    joint_damping_ = damping_;
+    extra_damping_ = Eigen::VectorXd::Zero(nv);
     A_ = Eigen::MatrixXd::Zero(nv, nv);
     H_ = Eigen::MatrixXd::Zero(nv, nv);
     J_a_.setZero(3, nv);
@@ -114,6 +116,12 @@ class BuiltinPlant final : public Plant {
     v_ = v;
     clock_.Reset();
     contact_force_per_body_.setZero();
+  }
+
+  void SetExtraDamping(const Eigen::VectorXd& d) override {
+    internal::CheckExtraDamping("BuiltinPlant::SetExtraDamping", model_, d);
+    extra_damping_ = d;
+    damping_ = joint_damping_ + d;  // A = M + h D: implicit with the contact forces
   }
 
   void Advance(double duration, const Eigen::VectorXd& u, int disturbed_body,
@@ -171,6 +179,7 @@ class BuiltinPlant final : public Plant {
     engine_.Evaluate(model_, data_, &contact_data_);
     ExternalForces(true, disturbed_body, f_ext_W);
     tau_ = u_ + tau_ext_;
+    tau_ -= extra_damping_.cwiseProduct(v_);  // explicit here, like every other force
     contact_force_per_body_.setZero();
     for (int i = 0; i < contact_data_.num_active; ++i) {
       const ContactResult& r = contact_data_.results[i];
@@ -208,8 +217,11 @@ class BuiltinPlant final : public Plant {
     ExternalForces(false, disturbed_body, f_ext_W);
 
     // Free motion: A (v_free - v) = h (u + tau_ext - bias), A = M + h D.
+    // BiasTerm has the joint damping D_joint v; the extra damping's -D_extra v joins it, and
+    // A = M + h (D_joint + D_extra) makes both implicit.
     tau_ = u_ + tau_ext_;
     tau_ -= BiasTerm(model_, q_, v_, &data_);
+    tau_ -= extra_damping_.cwiseProduct(v_);
     A_ = MassMatrix(model_, q_, &data_);
     A_.diagonal() += h * damping_;
     llt_.compute(A_);
@@ -342,7 +354,7 @@ class BuiltinPlant final : public Plant {
   ContactData contact_data_;
   internal::StepClock clock_;
   Eigen::VectorXd q_, v_, q_start_, v_start_;
-  Eigen::VectorXd u_, tau_, tau_ext_, damping_;
+  Eigen::VectorXd u_, tau_, tau_ext_, damping_, joint_damping_, extra_damping_;
   Eigen::VectorXd v_free_, gradient_, trial_, line_point_, dv_;
   BodyForces F_;
   Eigen::VectorXd contact_force_per_body_;

@@ -83,6 +83,8 @@ class MujocoPlant final : public Plant {
       const int id = mj_name2id(m_.get(), mjOBJ_GEOM, g.name.c_str());
       if (id >= 0) geom_body_[id] = g.body;
     }
+    base_damping_.assign(m_->dof_damping, m_->dof_damping + m_->nv);
+    extra_damping_dof_.assign(model_.nv(), -1);
     u_ = Eigen::VectorXd::Zero(model_.nv());
     contact_force_per_body_ = Eigen::VectorXd::Zero(model_.num_bodies());
     Reset(model_.NeutralConfiguration(), Eigen::VectorXd::Zero(model_.nv()));
@@ -101,6 +103,28 @@ class MujocoPlant final : public Plant {
     map_.MujocoToIdtoState(d_->qpos, d_->qvel, &q_, &v_);
     clock_.Reset();
     contact_force_per_body_.setZero();
+  }
+
+  void SetExtraDamping(const Eigen::VectorXd& d) override {
+    static constexpr const char* kWhere = "MujocoPlant::SetExtraDamping";
+    internal::CheckExtraDamping(kWhere, model_, d);
+    // MuJoCo's Euler integrator treats dof_damping implicitly. A 1-DoF joint's velocity maps to
+    // one MuJoCo DoF (T(q) e_i has one non-zero, +1 or -1, there).
+    Eigen::VectorXd e = Eigen::VectorXd::Zero(model_.nv());
+    std::vector<double> column(model_.nv());
+    for (int i = 0; i < model_.nv(); ++i) {
+      if (d(i) == 0.0 && extra_damping_dof_[i] < 0) continue;
+      e.setZero();
+      e(i) = 1.0;
+      map_.IdtoToMujocoForce(q_, e, column.data());
+      int dof = -1;
+      for (int k = 0; k < model_.nv(); ++k) {
+        if (column[k] != 0.0) dof = k;
+      }
+      if (dof < 0) continue;
+      m_->dof_damping[dof] = base_damping_[dof] + d(i);
+      extra_damping_dof_[i] = dof;
+    }
   }
 
   void Advance(double duration, const Eigen::VectorXd& u, int disturbed_body,
@@ -173,6 +197,8 @@ class MujocoPlant final : public Plant {
   std::unique_ptr<mjModel, MjModelDeleter> m_;
   std::unique_ptr<mjData, MjDataDeleter> d_;
   internal::StepClock clock_;
+  std::vector<double> base_damping_;    // MuJoCo's dof_damping from the model
+  std::vector<int> extra_damping_dof_;  // MuJoCo DoF of each idto DoF given extra damping
   std::vector<BodyIndex> geom_body_;
   Eigen::VectorXd q_, v_, u_;
   Eigen::VectorXd contact_force_per_body_;

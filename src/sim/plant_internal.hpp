@@ -52,4 +52,20 @@ inline void CheckDisturbance(const char* where, const Model& model, int disturbe
   CheckFinite(where, "f_ext_W", f_ext_W);
 }
 
+/// Checks Plant::SetExtraDamping's argument: nv entries, finite, >= 0, zero on multi-DoF joints.
+inline void CheckExtraDamping(const char* where, const Model& model, const Eigen::VectorXd& d) {
+  CheckSize(where, "d", d.size(), model.nv(), "model.nv()");
+  CheckFinite(where, "d", d);
+  CheckNonNegative(where, "d", d);
+  for (int i = 0; i < model.nv(); ++i) {
+    if (d(i) == 0.0) continue;
+    const JointIndex j = model.GetJointIndex(model.velocity_name(i));
+    if (model.joint_nv(j) != 1) {
+      ThrowInvalidArgument(where, "d(" + std::to_string(i) + ")",
+                           FormatValue(d(i)) + " on joint \"" + model.joint_name(j) + "\"",
+                           "0 on the DoFs of multi-DoF joints");
+    }
+  }
+}
+
 }  // namespace idto::sim::internal

@@ -93,7 +93,98 @@ TEST(MpcConfig, ErrorsNameTheKey) {
   throws("relative: [elbow]", "expected a joint of the scene");
   throws("kp: [1, 2]", "mpc.kp (line 1): is a list of 2 entries; expected nv = 3");
   throws("disturbances: [{body: nowhere, force: [1, 0, 0]}]", "expected a body of the scene");
-  throws("latency: sometimes", "expected solve_time or control_period");
+  throws("latency: sometimes", "expected solve_time, control_period or a delay in seconds");
+  throws("latency: -0.01", "expected solve_time, control_period or a delay in seconds");
+  throws("relative: [{spinner_axle: [1]}]",
+         "mpc.relative[0].spinner_axle[0] (line 1): is 1; expected a coordinate index in [0, 1)");
+  throws("relative: [{spinner_axle: x}]", "expected a non-empty list of coordinate indices");
+  throws("relative: [[1, 2]]", "expected a joint name or {joint: [coordinate indices");
+}
+
+TEST(MpcConfig, RelativeCoordinatesAndFixedLatency) {
+  ExampleConfig config = LoadSpinner();
+  config.mpc = "relative: [{spinner_axle: [0]}, finger_elbow]\nlatency: 0.004";
+  const MpcConfig m = ParseMpcConfig(config);
+  const Model& model = config.model;
+  EXPECT_EQ(m.controller.relative_positions,
+            (std::vector<int>{model.GetPositionStart("spinner_axle"),
+                              model.GetPositionStart("finger_elbow")}));
+  EXPECT_EQ(m.closed_loop.latency, mpc::LatencyModel::kFixed);
+  EXPECT_DOUBLE_EQ(m.closed_loop.fixed_latency, 0.004);
+}
+
+// A plant that gives up after a number of steps, as MuJoCo does when it detects instability.
+class FailingPlant final : public sim::Plant {
+ public:
+  FailingPlant(const Model& model, int steps_before_failure)
+      : q_(model.NeutralConfiguration()),
+        v_(Eigen::VectorXd::Zero(model.nv())),
+        f_(Eigen::VectorXd::Zero(model.num_bodies())),
+        left_(steps_before_failure) {}
+  void Reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v) override {
+    q_ = q;
+    v_ = v;
+  }
+  void Advance(double duration, const Eigen::VectorXd&, int, const Eigen::Vector3d&) override {
+    if (left_-- <= 0)
+      throw std::runtime_error("FailingPlant: unstable at t = " + std::to_string(t_));
+    t_ += duration;
+  }
+  void SetExtraDamping(const Eigen::VectorXd& d) override { damping_ = d; }
+  const Eigen::VectorXd& q() const override { return q_; }
+  const Eigen::VectorXd& v() const override { return v_; }
+  double time() const override { return t_; }
+  const Eigen::VectorXd& contact_force_per_body() const override { return f_; }
+  std::string name() const override { return "failing"; }
+  Eigen::VectorXd damping_;
+
+ private:
+  Eigen::VectorXd q_, v_, f_;
+  int left_;
+  double t_{0.0};
+};
+
+TEST(ClosedLoop, APlantFailureStopsTheRunAndKeepsTheLog) {
+  const ExampleConfig config = LoadSpinner();
+  MpcConfig mpc = ParseMpcConfig(config);
+  mpc.closed_loop.duration = 1.0;
+  mpc.closed_loop.log_every = 1;
+  mpc::Controller controller(config.model, config.problem, config.solver, mpc.controller);
+  controller.Initialize(MakeInitialGuess(config), 5);
+  FailingPlant plant(config.model, 120);
+  plant.Reset(config.problem.q_init, config.problem.v_init);
+  mpc::ClosedLoopLog log;
+  ASSERT_NO_THROW(log = mpc::RunClosedLoop(config.model, mpc.closed_loop, &controller, &plant));
+  EXPECT_THAT(log.failure, HasSubstr("FailingPlant: unstable"));
+  EXPECT_NEAR(log.failure_time, 0.120, 1e-9);
+  EXPECT_EQ(log.t.size(), 121u);  // every step up to and including the failing one
+  // The PD's damping went to the plant (implicit), on the actuated DoFs only.
+  const int elbow = config.model.GetPositionStart("finger_elbow");
+  const int axle = config.model.GetPositionStart("spinner_axle");
+  EXPECT_EQ(plant.damping_(elbow), mpc.controller.gains.Kd(elbow));
+  EXPECT_EQ(plant.damping_(axle), 0.0);
+}
+
+TEST(ClosedLoop, FixedLatencyRunsAreReproducible) {
+  const ExampleConfig config = LoadSpinner();
+  MpcConfig mpc = ParseMpcConfig(config);
+  mpc.closed_loop.duration = 0.5;
+  mpc.closed_loop.latency = mpc::LatencyModel::kFixed;
+  mpc.closed_loop.fixed_latency = 0.002;
+  auto run = [&] {
+    std::unique_ptr<sim::Plant> plant = sim::MakeBuiltinPlant(config.model, mpc.builtin);
+    plant->Reset(config.problem.q_init, config.problem.v_init);
+    mpc::Controller controller(config.model, config.problem, config.solver, mpc.controller);
+    controller.Initialize(MakeInitialGuess(config), 20);
+    return mpc::RunClosedLoop(config.model, mpc.closed_loop, &controller, plant.get());
+  };
+  const mpc::ClosedLoopLog a = run();
+  const mpc::ClosedLoopLog b = run();
+  ASSERT_EQ(a.q.size(), b.q.size());
+  for (size_t k = 0; k < a.q.size(); ++k) {
+    ASSERT_EQ(a.q[k], b.q[k]) << "log entry " << k;
+    ASSERT_EQ(a.u[k], b.u[k]) << "log entry " << k;
+  }
 }
 
 }  // namespace

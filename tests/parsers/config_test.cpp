@@ -704,5 +704,42 @@ TEST(ConfigErrorTest, ErrorsAreFileErrorsNamingFileAndKey) {
   }
 }
 
+// ------------------------------------------------------------------------------ mpc.problem
+
+TEST(ConfigTest, MpcProblemOverridesMergeIntoTheOpenLoopProblem) {
+  const ExampleConfig config = LoadText(kBase + R"(mpc:
+  control_rate: 50
+  problem:
+    horizon: 0.5
+    nominal: {q_end: [1.5, 0]}
+    weights: {R: 0.5}
+)");
+  // The open-loop problem is unchanged.
+  EXPECT_EQ(config.problem.num_steps, 20);
+  EXPECT_DOUBLE_EQ(config.problem.R(0), 0.01);
+  ASSERT_TRUE(config.mpc_problem.has_value());
+  const ProblemDefinition& p = *config.mpc_problem;
+  EXPECT_EQ(p.num_steps, 10);
+  EXPECT_DOUBLE_EQ(p.q_nom.back()(0), 1.5);
+  EXPECT_DOUBLE_EQ(p.q_nom[5](0), 0.75);  // interpolated from q_init over the new horizon
+  // weights merged key by key: R replaced, Qq kept from the open-loop problem.
+  EXPECT_DOUBLE_EQ(p.R(1), 0.5);
+  EXPECT_DOUBLE_EQ(p.Qq(0), 0.1);
+  EXPECT_DOUBLE_EQ(p.Qq(1), 0.2);
+}
+
+TEST(ConfigTest, NoMpcProblemWithoutTheKey) {
+  EXPECT_FALSE(LoadText(kBase + "mpc: {control_rate: 50}\n").mpc_problem.has_value());
+  EXPECT_FALSE(LoadText(kBase).mpc_problem.has_value());
+}
+
+TEST(ConfigTest, MpcProblemErrorsNameTheKey) {
+  EXPECT_THAT(
+      Loading(kBase + "mpc:\n  problem:\n    weights: {R: -1}\n"),
+      ThrowsMessage<FileError>(AllOf(HasSubstr("test.yaml"), HasSubstr("mpc.problem.weights.R"))));
+  EXPECT_THAT(Loading(kBase + "mpc:\n  problem:\n    no_such_key: 1\n"),
+              ThrowsMessage<FileError>(HasSubstr("mpc.problem.no_such_key")));
+}
+
 }  // namespace
 }  // namespace idto

@@ -124,8 +124,58 @@ bool QuadrupedModel(Model* model, Eigen::VectorXd* q_stand) {
   return true;
 }
 
+// A rod spinning about a fixed axis without gravity: I v' = -d v.
+Model SpinningRod() {
+  ModelBuilder builder("rod");
+  BodyInertia inertia;
+  inertia.mass = 1.0;
+  inertia.I_BBcm_B = Eigen::Vector3d(0.02, 0.02, 0.02).asDiagonal();
+  JointSpec joint;
+  joint.name = "axle";
+  joint.axis = Eigen::Vector3d::UnitY();
+  builder.AddBody("rod", inertia, kWorldBody, joint);
+  builder.SetGravity(Eigen::Vector3d::Zero());
+  return builder.Build();
+}
+
+// Extra damping d decays v like exp(-d t / I); with d h / I = 100 (an explicit step would
+// diverge) the implicit step stays monotone. Checks Plant::SetExtraDamping of any plant.
+void CheckExtraDamping(Plant* plant) {
+  const double I = 0.02;
+  plant->Reset(Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 1.0));
+  plant->SetExtraDamping(Eigen::VectorXd::Constant(1, 0.01));  // time constant 2 s
+  const Eigen::VectorXd u = Eigen::VectorXd::Zero(1);
+  plant->Advance(1.0, u);
+  EXPECT_NEAR(plant->v()(0), std::exp(-0.01 / I), 2e-3);
+  plant->Reset(Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 1.0));
+  plant->SetExtraDamping(Eigen::VectorXd::Constant(1, 100 * I / 1e-3));
+  double previous = 1.0;
+  for (int i = 0; i < 20; ++i) {
+    plant->Advance(1e-3, u);
+    ASSERT_GE(plant->v()(0), 0.0);
+    ASSERT_LE(plant->v()(0), previous);
+    previous = plant->v()(0);
+  }
+  // Back to none: the rod keeps its speed.
+  plant->SetExtraDamping(Eigen::VectorXd::Zero(1));
+  plant->Reset(Eigen::VectorXd::Zero(1), Eigen::VectorXd::Constant(1, 1.0));
+  plant->Advance(0.1, u);
+  EXPECT_NEAR(plant->v()(0), 1.0, 1e-12);
+  // Bad arguments.
+  EXPECT_THROW(plant->SetExtraDamping(Eigen::VectorXd::Zero(2)), InvalidArgument);
+  EXPECT_THROW(plant->SetExtraDamping(Eigen::VectorXd::Constant(1, -1.0)), InvalidArgument);
+  EXPECT_THROW(plant->SetExtraDamping(Eigen::VectorXd::Constant(1, NAN)), InvalidArgument);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Built-in plant.
+
+TEST(BuiltinPlant, ExtraDampingIsImplicit) {
+  std::unique_ptr<Plant> plant = sim::MakeBuiltinPlant(SpinningRod(), {});
+  CheckExtraDamping(plant.get());
+  std::unique_ptr<Plant> ball = sim::MakeBuiltinPlant(BallModel(), {});
+  EXPECT_THROW(ball->SetExtraDamping(Eigen::VectorXd::Constant(6, 1.0)), InvalidArgument);
+}
 
 TEST(BuiltinPlant, BallDroppedOnTheGroundComesToRest) {
   const Model model = BallModel();
@@ -501,6 +551,14 @@ TEST(MujocoPlantMjcf, RejectsBadContactPairs) {
 // MuJoCo plant.
 
 #ifdef IDTO_HAVE_MUJOCO
+
+TEST(MujocoPlant, ExtraDampingIsImplicit) {
+  std::unique_ptr<Plant> plant = sim::MakeMujocoPlant(SpinningRod(), {});
+  CheckExtraDamping(plant.get());
+  // Not on a multi-DoF joint.
+  std::unique_ptr<Plant> ball = sim::MakeMujocoPlant(BallModel(), {});
+  EXPECT_THROW(ball->SetExtraDamping(Eigen::VectorXd::Constant(6, 1.0)), InvalidArgument);
+}
 
 TEST(MujocoPlant, Available) {
   EXPECT_TRUE(sim::HaveMujoco());

@@ -16,8 +16,9 @@ namespace idto::mpc {
 
 /// How long after a re-plan at time t its plan starts driving the robot.
 enum class LatencyModel {
-  kSolveTime,     ///< t + the measured wall-clock solve time (what this machine achieves)
-  kControlPeriod  ///< t + 1 / control_rate (a fixed one-period delay)
+  kSolveTime,      ///< t + the measured wall-clock solve time (what this machine achieves)
+  kControlPeriod,  ///< t + 1 / control_rate (a fixed one-period delay)
+  kFixed           ///< t + ClosedLoopOptions::fixed_latency: reproducible runs (tests, sweeps)
 };
 
 /// A scripted external push on the plant.
@@ -32,7 +33,12 @@ struct ClosedLoopOptions {
   double duration{5.0};          ///< simulated seconds
   double plant_time_step{1e-3};  ///< s: plant steps between control updates
   LatencyModel latency{LatencyModel::kSolveTime};
+  double fixed_latency{0.0};  ///< s, >= 0: the delay of LatencyModel::kFixed
   std::vector<Disturbance> disturbances;
+  /// The PD's -Kd v term is integrated implicitly by the plant (Plant::SetExtraDamping), the
+  /// rest of u explicitly: stable at 1 ms even where Kd h / I > 2 on a light link. False: all
+  /// of u is held constant over each plant step.
+  bool implicit_damping{true};
   /// Log every `log_every` plant steps (1: every step).
   int log_every{10};
 };
@@ -47,6 +53,9 @@ struct ClosedLoopLog {
   std::vector<int> solve_status;         ///< TerminationType of each re-plan
   int num_rejected_plans{0};
   double control_period{0.0};
+  /// Empty unless the plant failed (threw from Advance); the run stopped at failure_time.
+  std::string failure;
+  double failure_time{-1.0};
 
   double mean_solve_time() const;
   double max_solve_time() const;
@@ -60,7 +69,9 @@ struct ClosedLoopLog {
 
 /// Runs `controller` against `plant` from the plant's current state for options.duration.
 /// Re-plans every 1 / control_rate s; the PD+ command is recomputed every plant step from the
-/// plan in force (see LatencyModel).
+/// plan in force (see LatencyModel). When the plant throws (e.g. MuJoCo reports an unstable
+/// simulation), the run stops there and the log keeps everything up to it, with the reason in
+/// ClosedLoopLog::failure.
 ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options,
                             Controller* controller, sim::Plant* plant);
 

@@ -28,6 +28,7 @@
 ///
 /// Numbers may be written as YAML numbers or with pi: "pi", "-pi/2", "2*pi", "0.5*pi/3".
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -70,9 +71,15 @@ struct ExampleConfig {
   SolverOptions solver;                  ///< valid (SolverOptions::IsValid)
   InitialGuessType initial_guess{InitialGuessType::kInterpolate};
 
-  /// The `mpc` section, reserved for model predictive control options: checked to be a map and
-  /// kept here as YAML text (empty when absent). Its keys are not interpreted yet.
+  /// The `mpc` section (model predictive control options, parsed by ParseMpcConfig in
+  /// idto/parsers/mpc_config.hpp): checked to be a map and kept here as YAML text (empty when
+  /// absent).
   std::string mpc;
+  /// The controller's problem when `mpc.problem` is given: `problem` with the keys of
+  /// `mpc.problem` replacing the open-loop ones (`nominal` and `weights` merged key by key),
+  /// validated like `problem` (errors name "mpc.problem.<key>"). Empty otherwise: the controller
+  /// uses `problem`.
+  std::optional<ProblemDefinition> mpc_problem;
 };
 
 /// Loads and checks a configuration file. URDF paths in `scene.models[i].urdf` are resolved, in

@@ -27,13 +27,16 @@ struct MpcConfig {
 /// Parses config.mpc (YAML text). Keys (all optional):
 ///   control_rate (Hz, default 100), iterations_per_step (1), duration (s, 5),
 ///   initial_iterations (50), plant (mujoco|builtin; default mujoco when available),
-///   plant_time_step (s, 1e-3), latency (solve_time|control_period),
+///   plant_time_step (s, 1e-3), latency (solve_time|control_period|a delay in s),
 ///   kp, kd: a number for every actuated DoF, a list of nv, or {default: x, joint: value},
-///   relative: [joint names] whose position coordinates keep their nominal offsets,
+///   relative: [joint names, or {joint: [coordinate indices within the joint]}] whose position
+///     coordinates keep their nominal offsets from the measured state,
 ///   builtin_contact: {stiffness, smoothing, dissipation_velocity, friction_coefficient,
 ///                     stiction_velocity},
 ///   mujoco_friction (default: the scene's friction coefficient),
-///   disturbances: [{body, start, duration, force: [fx, fy, fz]}].
+///   disturbances: [{body, start, duration, force: [fx, fy, fz]}],
+///   problem: overrides of the open-loop `problem` keys for the controller (parsed by
+///     LoadExampleConfig into ExampleConfig::mpc_problem).
 /// Errors are FileError naming config.source_file, the key path "mpc.<key>", the value and what
 /// was expected. The plant's pair filters come from the scene's contact options.
 MpcConfig ParseMpcConfig(const ExampleConfig& config);

@@ -34,6 +34,13 @@ class Plant {
   /// simulation becomes unstable (the message names the time).
   virtual void Advance(double duration, const Eigen::VectorXd& u, int disturbed_body = -1,
                        const Eigen::Vector3d& f_ext_W = Eigen::Vector3d::Zero()) = 0;
+  /// Extra viscous damping d (nv, >= 0; only on DoFs of 1-DoF joints) added to the model's
+  /// joint damping and integrated implicitly: each step applies -d .* v at the step's end
+  /// velocity. The closed loop puts a PD controller's -Kd v here, which stays stable at 1 ms
+  /// even on light links where the explicit term would diverge (Kd h / I > 2). Throws
+  /// InvalidArgument on a wrong size, a negative or non-finite entry, or a non-zero entry on a
+  /// multi-DoF joint.
+  virtual void SetExtraDamping(const Eigen::VectorXd& d) = 0;
   /// Current configuration (nq) and velocity (nv).
   virtual const Eigen::VectorXd& q() const = 0;
   virtual const Eigen::VectorXd& v() const = 0;

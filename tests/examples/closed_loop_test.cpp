@@ -1,0 +1,141 @@
+// Closed-loop MPC on the examples (idto-run NAME --mpc, in process): the closed-loop task
+// measures (examples/run/metrics_closed_loop.cpp) accept and reject what they should, and the
+// spinner and the quadruped achieve their tasks against MuJoCo with a fixed latency (so the runs
+// are reproducible on any machine; the real-time figures with measured solve times are in
+// docs/mpc.md).
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "idto/mpc/closed_loop.hpp"
+#include "idto/mpc/controller.hpp"
+#include "idto/parsers/config.hpp"
+#include "idto/parsers/mpc_config.hpp"
+#include "idto/sim/plant.hpp"
+#include "run/metrics_closed_loop.hpp"
+
+namespace idto {
+namespace {
+
+using examples::EvaluateClosedLoopTask;
+using examples::TaskResult;
+
+const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
+
+ExampleConfig Load(const std::string& name) {
+  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
+}
+
+double MetricValue(const TaskResult& r, const std::string& name) {
+  for (const examples::Metric& m : r.metrics) {
+    if (m.name == name) return m.values.at(0);
+  }
+  ADD_FAILURE() << "no metric " << name;
+  return NAN;
+}
+
+/// A log of `seconds` at 100 Hz in which q moves linearly from q0 to q1.
+mpc::ClosedLoopLog LinearLog(const Model& model, const Eigen::VectorXd& q0,
+                             const Eigen::VectorXd& q1, double seconds) {
+  mpc::ClosedLoopLog log;
+  const int n = static_cast<int>(seconds * 100);
+  for (int k = 0; k <= n; ++k) {
+    const double s = static_cast<double>(k) / n;
+    log.t.push_back(0.01 * k);
+    log.q.push_back((1 - s) * q0 + s * q1);
+    log.v.push_back(Eigen::VectorXd::Zero(model.nv()));
+    log.u.push_back(Eigen::VectorXd::Zero(model.nv()));
+    log.contact.push_back(Eigen::VectorXd::Ones(model.num_bodies()));
+  }
+  return log;
+}
+
+TEST(ClosedLoopTask, QuadrupedSpeedTiltAndFailure) {
+  const ExampleConfig config = Load("quadruped");
+  const int x = config.model.GetPositionStart("body_root_joint") + 4;
+  const Eigen::VectorXd q0 = config.problem.q_init;
+  Eigen::VectorXd q1 = q0;
+  q1(x) += 3.5;  // 0.35 m/s over 10 s
+  mpc::ClosedLoopLog log = LinearLog(config.model, q0, q1, 10.0);
+  TaskResult r = EvaluateClosedLoopTask(config, log);
+  EXPECT_TRUE(r.task_success) << r.criterion;
+  EXPECT_NEAR(MetricValue(r, "mean_forward_speed_m_s"), 0.35, 1e-12);
+  // Too slow.
+  q1(x) = q0(x) + 2.5;
+  EXPECT_FALSE(EvaluateClosedLoopTask(config, LinearLog(config.model, q0, q1, 10.0)).task_success);
+  // Fast enough but tipped over on the way (a quarter turn about x at one log entry).
+  q1(x) = q0(x) + 3.5;
+  log = LinearLog(config.model, q0, q1, 10.0);
+  log.q[500].head<4>() << std::sqrt(0.5), std::sqrt(0.5), 0, 0;
+  r = EvaluateClosedLoopTask(config, log);
+  EXPECT_FALSE(r.task_success);
+  EXPECT_NEAR(MetricValue(r, "max_tilt_rad"), M_PI / 2, 1e-9);
+  // A plant failure is never a success.
+  log = LinearLog(config.model, q0, q1, 10.0);
+  log.failure = "unstable";
+  log.failure_time = 9.0;
+  EXPECT_FALSE(EvaluateClosedLoopTask(config, log).task_success);
+}
+
+TEST(ClosedLoopTask, HillsMustBeCrossed) {
+  const ExampleConfig config = Load("quadruped_hills");
+  const int x = config.model.GetPositionStart("body_root_joint") + 4;
+  const Eigen::VectorXd q0 = config.problem.q_init;
+  Eigen::VectorXd q1 = q0;
+  q1(x) = 1.3;  // on the second hill (its far edge is at 1.19 + sqrt(0.5^2 - 0.44^2) = 1.4275)
+  TaskResult r = EvaluateClosedLoopTask(config, LinearLog(config.model, q0, q1, 10.0));
+  EXPECT_NEAR(MetricValue(r, "hills_end_x_m"), 1.19 + std::sqrt(0.25 - 0.44 * 0.44), 1e-12);
+  EXPECT_FALSE(r.task_success);
+  q1(x) = 1.6;
+  EXPECT_TRUE(EvaluateClosedLoopTask(config, LinearLog(config.model, q0, q1, 10.0)).task_success);
+}
+
+TEST(ClosedLoopTask, SpinnerRate) {
+  const ExampleConfig config = Load("spinner");
+  const int s = config.model.GetPositionStart("spinner_axle");
+  Eigen::VectorXd q1 = config.problem.q_init;
+  q1(s) += 3.1;
+  EXPECT_TRUE(EvaluateClosedLoopTask(config, LinearLog(config.model, config.problem.q_init, q1, 5))
+                  .task_success);
+  q1(s) -= 0.3;
+  EXPECT_FALSE(EvaluateClosedLoopTask(config, LinearLog(config.model, config.problem.q_init, q1, 5))
+                   .task_success);
+}
+
+/// Runs `name` in closed loop against MuJoCo with a fixed latency (reproducible).
+TaskResult RunAgainstMujoco(const std::string& name, double latency) {
+  const ExampleConfig config = Load(name);
+  MpcConfig mpc = ParseMpcConfig(config);
+  mpc.closed_loop.latency = mpc::LatencyModel::kFixed;
+  mpc.closed_loop.fixed_latency = latency;
+  std::unique_ptr<sim::Plant> plant = sim::MakeMujocoPlant(config.model, mpc.mujoco);
+  plant->Reset(config.problem.q_init, config.problem.v_init);
+  const ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
+  mpc::Controller controller(config.model, problem, config.solver, mpc.controller);
+  controller.Initialize(MakeInitialGuess(config), mpc.initial_iterations);
+  const mpc::ClosedLoopLog log =
+      mpc::RunClosedLoop(config.model, mpc.closed_loop, &controller, plant.get());
+  EXPECT_EQ(log.failure, "");
+  return EvaluateClosedLoopTask(config, log);
+}
+
+TEST(ClosedLoopMujoco, SpinnerKeepsSpinning) {
+  if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
+  const TaskResult r = RunAgainstMujoco("spinner", 1e-3);
+  EXPECT_TRUE(r.task_success) << "turned " << MetricValue(r, "spinner_angle_gained_rad");
+}
+
+TEST(ClosedLoopMujoco, QuadrupedWalksForward) {
+  if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
+  const TaskResult r = RunAgainstMujoco("quadruped", 3e-3);
+  EXPECT_TRUE(r.task_success) << "speed " << MetricValue(r, "mean_forward_speed_m_s")
+                              << " m/s, max tilt " << MetricValue(r, "max_tilt_rad") << " rad";
+}
+
+}  // namespace
+}  // namespace idto
