@@ -137,5 +137,12 @@ TEST(ClosedLoopMujoco, QuadrupedWalksForward) {
                               << " m/s, max tilt " << MetricValue(r, "max_tilt_rad") << " rad";
 }
 
+TEST(ClosedLoopMujoco, BimanualLiftHoldsTheBoxThroughAPush) {
+  if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
+  const TaskResult r = RunAgainstMujoco("bimanual_lift", 3e-3);
+  EXPECT_TRUE(r.task_success) << "lift over the last second "
+                              << MetricValue(r, "min_lift_last_second_m") << " m";
+}
+
 }  // namespace
 }  // namespace idto
