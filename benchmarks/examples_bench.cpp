@@ -12,6 +12,7 @@
 #include <benchmark/benchmark.h>
 
 #include "idto/idto.hpp"
+#include "iteration_timing.hpp"
 
 namespace {
 
@@ -35,30 +36,7 @@ void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool 
   idto::Trajectory sol;
   opt.Solve(idto::MakeInitialGuess(config), &sol);  // warm-up: past the first iterations
   opt.mutable_options().max_iterations = 1;
-  double t_deriv = 0, t_hess = 0, t_fact = 0, t_mult = 0, t_cost = 0;
-  int64_t n = 0;
-  for (auto _ : state) {
-    const idto::SolverSummary s = opt.SolveWarmStart(&sol);
-    if (s.log.empty()) {
-      state.SkipWithError(("no iteration: " + s.message).c_str());
-      break;
-    }
-    const idto::IterationSummary& it = s.log.back();
-    t_deriv += it.time_derivatives;
-    t_hess += it.time_hessian;
-    t_fact += it.time_factorization;
-    t_mult += it.time_multipliers;
-    t_cost += it.time_cost;
-    ++n;
-  }
-  if (n > 0) {
-    const double us = 1e6 / static_cast<double>(n);
-    state.counters["derivatives_us"] = t_deriv * us;
-    state.counters["hessian_us"] = t_hess * us;
-    state.counters["factorization_us"] = t_fact * us;
-    state.counters["multipliers_us"] = t_mult * us;
-    state.counters["trial_cost_us"] = t_cost * us;
-  }
+  idto::bench::TimeSolverIterations(state, &opt, &sol);
   state.counters["nq"] = config.model.nq();
   state.counters["N"] = config.problem.num_steps;
 }

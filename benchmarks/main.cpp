@@ -5,7 +5,8 @@
 // are summarized at the end of the run by a table of the ratio idto / MuJoCo of their real time
 // per call (the mean over repetitions when --benchmark_repetitions is used). The table goes to
 // stdout after the console output, or to stderr when another --benchmark_format is selected, so
-// that JSON/CSV output stays parseable.
+// that JSON/CSV output stays parseable. Likewise, benchmarks whose name contains "/clutter100"
+// are compared with the same name with "/plain" (scene_bench.cpp).
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -67,6 +68,27 @@ class RatioReporter : public benchmark::BenchmarkReporter {
       std::snprintf(line, sizeof(line), "%-44s %12.3f %12.3f %8.3f", stem.c_str(),
                     1e6 * entry.seconds, 1e6 * peer->second.seconds,
                     entry.seconds / peer->second.seconds);
+      out << line << "\n";
+    }
+    // Scenes with clutter against the same scene without ("/clutter100" vs "/plain").
+    header = false;
+    const std::string kClutter = "/clutter100", kPlain = "/plain";
+    for (const std::string& name : order_) {
+      const size_t at = name.find(kClutter);
+      if (at == std::string::npos) continue;
+      std::string plain = name;
+      plain.replace(at, kClutter.size(), kPlain);
+      const auto peer = seconds_.find(plain);
+      if (peer == seconds_.end()) continue;
+      if (!header) {
+        std::snprintf(line, sizeof(line), "%-52s %12s %12s %8s", "benchmark", "clutter [us]",
+                      "plain [us]", "ratio");
+        out << "\nratio clutter/plain (real time per call, same run)\n" << line << "\n";
+        header = true;
+      }
+      const double seconds = seconds_.at(name).seconds;
+      std::snprintf(line, sizeof(line), "%-52s %12.3f %12.3f %8.3f", name.c_str(), 1e6 * seconds,
+                    1e6 * peer->second.seconds, seconds / peer->second.seconds);
       out << line << "\n";
     }
     out << std::flush;

@@ -185,18 +185,6 @@ std::string ExecutablePath(const char* argv0) {
   return argv0 != nullptr ? std::string(argv0) : std::string();
 }
 
-std::string ConstraintMethodName(ConstraintMethod method) {
-  switch (method) {
-    case ConstraintMethod::kNone:
-      return "none";
-    case ConstraintMethod::kPenalty:
-      return "penalty";
-    case ConstraintMethod::kLagrangeMultipliers:
-      return "lagrange";
-  }
-  return "unknown";
-}
-
 std::string StepTypeName(idto::DoglegStep step) {
   switch (step) {
     case idto::DoglegStep::kNewton:

@@ -1,6 +1,7 @@
 #include "idto/contact/contact_engine.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -47,10 +48,16 @@ double BoundingRadius(const Shape& shape) {
 
 bool IsHalfSpace(const Shape& shape) { return std::holds_alternative<HalfSpace>(shape); }
 
+// A distinct id per constructed engine (copies keep it: they have the same pairs).
+std::uint64_t NextEngineId() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
+
 }  // namespace
 
 ContactEngine::ContactEngine(const Model& model, const ContactOptions& options)
-    : options_(options) {
+    : options_(options), id_(NextEngineId()) {
   static constexpr const char* kWhere = "ContactEngine";
   options_.parameters.Validate("ContactEngine: options.parameters");
   CheckNonNegative(kWhere, "options.force_tolerance", options_.force_tolerance);
@@ -186,10 +193,21 @@ ContactEngine::ContactEngine(const Model& model, const ContactOptions& options)
         return x.static_geometry < y.static_geometry;
       });
     }
+    for (GeometryIndex gm : moving_with_static_) {
+      query_body_.push_back(geos[gm].body);
+      query_center_B_.push_back(bound_center_B_[gm]);
+    }
+    pair_in_bvh_.assign(pairs_.size(), 0);
+    for (const std::vector<StaticPartner>& list : static_partners_) {
+      for (const StaticPartner& sp : list) pair_in_bvh_[sp.pair] = 1;
+    }
     for (GeometryIndex g = 0; g < ng; ++g) {
       if (!is_static_bounded(g)) continue;
       // Static: the body is the world or welded to it; its pose is fixed.
       const BodyIndex b = geos[g].body;
+      if (std::find(static_bodies_.begin(), static_bodies_.end(), b) == static_bodies_.end()) {
+        static_bodies_.push_back(b);
+      }
       const RigidTransform& X_WB = model.X_MB(b);  // the world is the mobilized body
       static_center_W_[g] = X_WB * bound_center_B_[g];
       bvh_items_.push_back(g);
@@ -231,48 +249,111 @@ int ContactEngine::BuildBvh(int first, int count) {
   return index;
 }
 
-void ContactEngine::CollectCandidates(const Model& model, const Data& data, ContactData* cd) const {
-  (void)model;
-  cd->candidates.clear();
-  for (int i : other_pairs_) cd->candidates.push_back(i);
-  const std::vector<GeometryInstance>& geos = model.geometries();
-  for (size_t m = 0; m < moving_with_static_.size(); ++m) {
-    const GeometryIndex gm = moving_with_static_[m];
-    const Eigen::Vector3d c = data.pose(geos[gm].body) * bound_center_B_[gm];
-    const double reach = bound_radius_[gm] + max_cutoff_;
-    const std::vector<StaticPartner>& partners = static_partners_[m];
-    int stack[64];
-    int top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const BvhNode& node = bvh_[stack[--top]];
-      // Distance from c to the box, against the reach.
-      const Eigen::Vector3d d =
-          (node.lower - c).cwiseMax(Eigen::Vector3d::Zero()).cwiseMax(c - node.upper);
-      if (d.squaredNorm() > reach * reach) continue;
-      if (node.count == 0) {
-        if (top + 2 > 64) {  // never for a balanced tree of < 2^60 items; stay safe
-          for (const StaticPartner& sp : partners) cd->candidates.push_back(sp.pair);
-          top = 0;
-          break;
-        }
-        stack[top++] = node.left;
-        stack[top++] = node.right;
-        continue;
+Eigen::Vector3d ContactEngine::MovingCenter(const Data& data, int m) const {
+  return data.pose(query_body_[m]) * query_center_B_[m];
+}
+
+bool ContactEngine::BroadPhaseHolds(const Data& data, const ContactData& record,
+                                    const std::vector<char>* body_moved) const {
+  const size_t num_queries = moving_with_static_.size();
+  if (record.broad_phase_owner != id_ || record.broad_phase_center.size() != num_queries ||
+      record.broad_phase_clearance.size() != num_queries) {
+    return false;
+  }
+  for (size_t m = 0; m < num_queries; ++m) {
+    if (body_moved != nullptr && !(*body_moved)[query_body_[m]]) continue;
+    const double clearance = record.broad_phase_clearance[m];
+    const Eigen::Vector3d c = MovingCenter(data, static_cast<int>(m));
+    if (!((c - record.broad_phase_center[m]).squaredNorm() < clearance * clearance)) return false;
+  }
+  return true;
+}
+
+void ContactEngine::QueryStatic(const Data& data, int m, std::vector<int>* candidates,
+                                Eigen::Vector3d* center, double* clearance) const {
+  const GeometryIndex gm = moving_with_static_[m];
+  const Eigen::Vector3d c = MovingCenter(data, m);
+  const double reach = bound_radius_[gm] + max_cutoff_;
+  const double reach2 = reach * reach;
+  const std::vector<StaticPartner>& partners = static_partners_[m];
+  const size_t start = candidates->size();
+  double min_rejected2 = kInf;  // squared distance to the nearest rejected box
+  int stack[64];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const BvhNode& node = bvh_[stack[--top]];
+    // Distance from c to the box, against the reach.
+    const Eigen::Vector3d d =
+        (node.lower - c).cwiseMax(Eigen::Vector3d::Zero()).cwiseMax(c - node.upper);
+    const double d2 = d.squaredNorm();
+    if (d2 > reach2) {
+      min_rejected2 = std::min(min_rejected2, d2);
+      continue;
+    }
+    if (node.count == 0) {
+      if (top + 2 > 64) {  // never for a balanced tree of < 2^60 items; stay safe
+        // Every partner, once: drop what this query has pushed so far.
+        candidates->resize(start);
+        for (const StaticPartner& sp : partners) candidates->push_back(sp.pair);
+        min_rejected2 = kInf;
+        break;
       }
-      for (int i = node.first; i < node.first + node.count; ++i) {
-        const GeometryIndex gs = bvh_items_[i];
-        const auto it = std::lower_bound(
-            partners.begin(), partners.end(), gs,
-            [](const StaticPartner& sp, GeometryIndex g) { return sp.static_geometry < g; });
-        if (it != partners.end() && it->static_geometry == gs) cd->candidates.push_back(it->pair);
-      }
+      stack[top++] = node.left;
+      stack[top++] = node.right;
+      continue;
+    }
+    for (int i = node.first; i < node.first + node.count; ++i) {
+      const GeometryIndex gs = bvh_items_[i];
+      const auto it = std::lower_bound(
+          partners.begin(), partners.end(), gs,
+          [](const StaticPartner& sp, GeometryIndex g) { return sp.static_geometry < g; });
+      if (it != partners.end() && it->static_geometry == gs) candidates->push_back(it->pair);
     }
   }
-  // Evaluate in pair order whatever the traversal order: results are deterministic.
+  if (center != nullptr) *center = c;
+  // Every rejected box stays rejected while c moves less than this (the 1e-9 margin covers
+  // round-off), so the partners found are a superset of what a query from there would find.
+  if (clearance != nullptr) *clearance = (std::sqrt(min_rejected2) - reach) * (1.0 - 1e-9);
+}
+
+void ContactEngine::CollectCandidates(const Data& data, ContactData* cd) const {
+  // Temporal coherence: when this ContactData's last broad phase still holds (every moving
+  // geometry moved less than its clearance since, as between a solver's nearby iterates), its
+  // candidates are still a superset of the pairs within reach.
+  if (BroadPhaseHolds(data, *cd, nullptr)) return;
+  cd->candidates.clear();
+  for (int i : other_pairs_) cd->candidates.push_back(i);
+  const bool record = cd->broad_phase_center.size() == moving_with_static_.size() &&
+                      cd->broad_phase_clearance.size() == moving_with_static_.size();
+  for (size_t m = 0; m < moving_with_static_.size(); ++m) {
+    QueryStatic(data, static_cast<int>(m), &cd->candidates,
+                record ? &cd->broad_phase_center[m] : nullptr,
+                record ? &cd->broad_phase_clearance[m] : nullptr);
+  }
+  // Evaluate in pair order whatever the traversal order: results are deterministic. Each pair
+  // is pushed at most once (a static geometry sits in one leaf).
   std::sort(cd->candidates.begin(), cd->candidates.end());
-  cd->candidates.erase(std::unique(cd->candidates.begin(), cd->candidates.end()),
-                       cd->candidates.end());
+  cd->broad_phase_owner = record ? id_ : 0;
+}
+
+void ContactEngine::ResetResults(ContactData* cd) const {
+  cd->F_ext.setZero();
+  // Only the entries of the last evaluation's results are set (cheaper than clearing all pairs
+  // when most are pruned); a ContactData whose count is out of range is cleared in full.
+  const int n = static_cast<int>(cd->result_of_pair.size());
+  bool consistent = cd->num_active >= 0 && cd->num_active <= static_cast<int>(cd->results.size());
+  for (int c = 0; consistent && c < cd->num_active; ++c) {
+    const int pair = cd->results[c].pair;
+    if (pair < 0 || pair >= n) {
+      consistent = false;
+    } else {
+      cd->result_of_pair[pair] = -1;
+    }
+  }
+  if (!consistent) std::fill(cd->result_of_pair.begin(), cd->result_of_pair.end(), -1);
+  cd->num_active = 0;
+  cd->num_pruned = 0;
 }
 
 ContactData ContactEngine::MakeData(const Model& model) const {
@@ -281,6 +362,9 @@ ContactData ContactEngine::MakeData(const Model& model) const {
   data.F_ext = BodyForces::Zero(6, model.num_bodies());
   data.candidates.reserve(pairs_.size());
   data.result_of_pair.assign(pairs_.size(), -1);
+  data.broad_phase_center.assign(moving_with_static_.size(), Eigen::Vector3d::Zero());
+  data.broad_phase_clearance.assign(moving_with_static_.size(), 0.0);
+  data.broad_phase_owner = 0;
   return data;
 }
 
@@ -341,61 +425,97 @@ void ContactEngine::AddForces(const Data& data, const ContactResult& r, BodyForc
 void ContactEngine::Evaluate(const Model& model, const Data& data,
                              ContactData* contact_data) const {
   if (contact_data->results.size() != pairs_.size() ||
+      contact_data->result_of_pair.size() != pairs_.size() ||
       contact_data->F_ext.cols() != model.num_bodies()) {
     ThrowInvalidArgument("ContactEngine::Evaluate", "contact_data",
                          "sized for another engine or model", "ContactEngine::MakeData(model)");
   }
-  contact_data->F_ext.setZero();
-  contact_data->num_active = 0;
-  std::fill(contact_data->result_of_pair.begin(), contact_data->result_of_pair.end(), -1);
-  if (use_bvh_) CollectCandidates(model, data, contact_data);
+  ResetResults(contact_data);
+  if (use_bvh_) {
+    CollectCandidates(data, contact_data);
+  } else {
+    contact_data->broad_phase_owner = 0;
+  }
   const int num_candidates =
       use_bvh_ ? static_cast<int>(contact_data->candidates.size()) : num_pairs();
-  contact_data->num_pruned = num_pairs() - num_candidates;
   for (int c = 0; c < num_candidates; ++c) {
     const int i = use_bvh_ ? contact_data->candidates[c] : c;
     ContactResult& r = contact_data->results[contact_data->num_active];
-    if (!EvaluatePair(model, data, i, &r)) {
-      ++contact_data->num_pruned;
-      continue;
-    }
+    if (!EvaluatePair(model, data, i, &r)) continue;
     contact_data->result_of_pair[i] = contact_data->num_active++;
     AddForces(data, r, &contact_data->F_ext);
   }
+  contact_data->num_pruned = num_pairs() - contact_data->num_active;
 }
 
 void ContactEngine::EvaluateChanged(const Model& model, const Data& data,
                                     const ContactData& reference,
                                     const std::vector<char>& body_moved,
                                     ContactData* contact_data) const {
-  if (contact_data->results.size() != pairs_.size() || reference.results.size() != pairs_.size() ||
+  if (contact_data->results.size() != pairs_.size() ||
+      contact_data->result_of_pair.size() != pairs_.size() ||
+      reference.results.size() != pairs_.size() ||
+      reference.result_of_pair.size() != pairs_.size() ||
       static_cast<int>(body_moved.size()) != model.num_bodies()) {
     ThrowInvalidArgument("ContactEngine::EvaluateChanged", "contact_data, reference, body_moved",
                          "sized for another engine or model",
                          "ContactEngine::MakeData(model) and num_bodies() flags");
   }
-  contact_data->F_ext.setZero();
-  contact_data->num_active = 0;
-  contact_data->num_pruned = 0;
-  std::fill(contact_data->result_of_pair.begin(), contact_data->result_of_pair.end(), -1);
+  ResetResults(contact_data);
+  int num_candidates = num_pairs();
+  const std::vector<int>* candidates = &contact_data->candidates;
+  contact_data->broad_phase_owner = 0;  // its candidates are not an Evaluate's broad phase
+  if (use_bvh_) {
+    bool static_moved = false;  // only if the caller flags a static body
+    for (BodyIndex b : static_bodies_) static_moved = static_moved || body_moved[b] != 0;
+    // When the reference's broad phase still holds for every moved geometry (it moved less
+    // than its clearance, as under a finite-difference perturbation), the reference's
+    // candidates are a superset of the pairs that can be active: every pair outside the
+    // hierarchy, the static pairs of the moved geometries that a query from here could find,
+    // and the reference's active pairs. Nothing to query.
+    const bool reuse = !static_moved && BroadPhaseHolds(data, reference, &body_moved);
+    if (reuse) {
+      candidates = &reference.candidates;
+    } else {
+      // The pairs that can be active, each once: every pair outside the hierarchy; the static
+      // partners of moved geometries that the hierarchy finds; and the active static pairs of
+      // the reference whose bodies did not move (reused below). Disjoint lists, so at most
+      // num_pairs() entries: the reserved capacity, no allocation.
+      std::vector<int>& list = contact_data->candidates;
+      list.clear();
+      for (int i : other_pairs_) list.push_back(i);
+      for (size_t m = 0; m < moving_with_static_.size(); ++m) {
+        if (static_moved || body_moved[query_body_[m]]) {
+          QueryStatic(data, static_cast<int>(m), &list, nullptr, nullptr);
+        }
+      }
+      for (int c = 0; c < reference.num_active && !static_moved; ++c) {
+        const int i = reference.results[c].pair;
+        const ContactPair& pair = pairs_[i];
+        if (pair_in_bvh_[i] && !body_moved[pair.body_a] && !body_moved[pair.body_b]) {
+          list.push_back(i);
+        }
+      }
+      std::sort(list.begin(), list.end());
+    }
+    num_candidates = static_cast<int>(candidates->size());
+  }
   // Pair order, whether reused or recomputed: the sums are deterministic.
-  for (int i = 0; i < num_pairs(); ++i) {
+  for (int c = 0; c < num_candidates; ++c) {
+    const int i = use_bvh_ ? (*candidates)[c] : c;
     const ContactPair& pair = pairs_[i];
     ContactResult& r = contact_data->results[contact_data->num_active];
     if (!body_moved[pair.body_a] && !body_moved[pair.body_b]) {
       const int j = reference.result_of_pair[i];
-      if (j < 0) {
-        ++contact_data->num_pruned;
-        continue;
-      }
+      if (j < 0) continue;
       r = reference.results[j];
     } else if (!EvaluatePair(model, data, i, &r)) {
-      ++contact_data->num_pruned;
       continue;
     }
     contact_data->result_of_pair[i] = contact_data->num_active++;
     AddForces(data, r, &contact_data->F_ext);
   }
+  contact_data->num_pruned = num_pairs() - contact_data->num_active;
 }
 
 }  // namespace idto

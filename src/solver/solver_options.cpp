@@ -5,6 +5,18 @@
 
 namespace idto {
 
+std::string ConstraintMethodName(ConstraintMethod method) {
+  switch (method) {
+    case ConstraintMethod::kNone:
+      return "none";
+    case ConstraintMethod::kPenalty:
+      return "penalty";
+    case ConstraintMethod::kLagrangeMultipliers:
+      return "lagrange";
+  }
+  return "unknown";
+}
+
 bool SolverOptions::IsValid(std::string* why) const {
   std::ostringstream out;
   auto fail = [&](const char* field, double value, const char* expected) {

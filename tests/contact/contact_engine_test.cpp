@@ -7,18 +7,12 @@
 #include "idto/idto.hpp"
 #include "support/eigen_matchers.hpp"
 #include "support/random.hpp"
+#include "support/test_models.hpp"
 
 namespace idto {
 namespace {
 
 using ::testing::HasSubstr;
-
-BodyInertia Ball(double m, double r) {
-  BodyInertia I;
-  I.mass = m;
-  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 0.4 * m * r * r;
-  return I;
-}
 
 // Two free balls above a ground plane, plus a two-link arm with a fingertip sphere.
 Model Scene() {
@@ -28,7 +22,7 @@ Model Scene() {
     JointSpec j;
     j.name = std::string(name) + "_free";
     j.type = JointType::kFloating;
-    const BodyIndex b = builder.AddBody(name, Ball(0.5, 0.1), kWorldBody, j);
+    const BodyIndex b = builder.AddBody(name, test::SolidBall(0.5, 0.1), kWorldBody, j);
     builder.AddGeometry(std::string(name) + "_sphere", b, Eigen::Isometry3d::Identity(),
                         Sphere{0.1});
   }
@@ -37,12 +31,12 @@ Model Scene() {
   shoulder.type = JointType::kRevolute;
   shoulder.axis = Eigen::Vector3d::UnitY();
   shoulder.X_PJ.translation() << 0.0, 0.0, 1.0;
-  const BodyIndex upper = builder.AddBody("upper", Ball(1.0, 0.1), kWorldBody, shoulder);
+  const BodyIndex upper = builder.AddBody("upper", test::SolidBall(1.0, 0.1), kWorldBody, shoulder);
   builder.AddGeometry("upper_sphere", upper, Eigen::Isometry3d::Identity(), Sphere{0.05});
   JointSpec elbow = shoulder;
   elbow.name = "elbow";
   elbow.X_PJ.translation() << 0.5, 0.0, 0.0;
-  const BodyIndex lower = builder.AddBody("lower", Ball(1.0, 0.1), upper, elbow);
+  const BodyIndex lower = builder.AddBody("lower", test::SolidBall(1.0, 0.1), upper, elbow);
   Eigen::Isometry3d X_tip = Eigen::Isometry3d::Identity();
   X_tip.translation() << 0.5, 0.0, 0.0;
   builder.AddGeometry("tip", lower, X_tip, Sphere{0.02});
@@ -227,31 +221,8 @@ TEST(ContactEngine, PruningChangesForcesByLessThanTheTolerance) {
 
 TEST(ContactEngine, BroadPhaseOverStaticGeometryNeverMissesAPairWithinTheCutoff) {
   // Two free balls among 60 static spheres (some welded to a fixed body), near and far.
-  ModelBuilder builder("crowd");
-  builder.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
-  JointSpec weld;
-  weld.name = "table_weld";
-  weld.type = JointType::kFixed;
-  weld.X_PJ.translation() << 0.3, -0.2, 0.0;
-  const BodyIndex table = builder.AddBody("table", BodyInertia{}, kWorldBody, weld);
-  test::Random rng(17);
-  for (int i = 0; i < 60; ++i) {
-    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-    X.translation() = rng.Vector(3, -1.0, 1.0);
-    X.translation().z() = std::abs(X.translation().z());
-    builder.AddGeometry("static" + std::to_string(i), i % 3 == 0 ? table : kWorldBody, X,
-                        Sphere{rng.Uniform(0.02, 0.1)});
-  }
-  for (const char* name : {"ball1", "ball2"}) {
-    JointSpec j;
-    j.name = std::string(name) + "_free";
-    j.type = JointType::kFloating;
-    const BodyIndex b = builder.AddBody(name, Ball(0.5, 0.1), kWorldBody, j);
-    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-    X.translation() << 0.05, 0.0, 0.0;  // off-centre: the bound is not at the body origin
-    builder.AddGeometry(std::string(name) + "_sphere", b, X, Sphere{0.1});
-  }
-  const Model model = builder.Build();
+  const Model model = test::StaticCrowd(17, /*with_arm=*/false);
+  test::Random rng(18);
   ContactOptions pruned_options;
   pruned_options.force_tolerance = 1e-3;
   ContactOptions full_options = pruned_options;

@@ -4,6 +4,8 @@
 /// Models built in code for tests: random trees with every joint type, rotated joint frames,
 /// offset centres of mass, full inertias and welded bodies.
 
+#include <cmath>
+#include <cstdint>
 #include <string>
 
 #include <Eigen/Core>
@@ -122,6 +124,57 @@ inline BodyInertia PointLikeMass(double m, const Eigen::Vector3d& com) {
   I.p_BBcm = com;
   I.I_BBcm_B = Eigen::Matrix3d::Identity() * 1e-3 * m;
   return I;
+}
+
+/// A solid ball of mass m (kg) and radius r (m), centred at the body origin.
+inline BodyInertia SolidBall(double m, double r) {
+  BodyInertia I;
+  I.mass = m;
+  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 0.4 * m * r * r;
+  return I;
+}
+
+/// A ground plane, 60 random static spheres (every third welded to a fixed "table" body, the
+/// rest on the world; placement from `seed`) and two free balls "ball1", "ball2" whose sphere
+/// sits 5 cm off the body origin. With `with_arm`, also a hinged "arm" with a "tip" sphere.
+/// For the broad phase over static geometry.
+inline Model StaticCrowd(std::uint32_t seed, bool with_arm) {
+  ModelBuilder builder("crowd");
+  builder.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
+  JointSpec weld;
+  weld.name = "table_weld";
+  weld.type = JointType::kFixed;
+  weld.X_PJ.translation() << 0.3, -0.2, 0.0;
+  const BodyIndex table = builder.AddBody("table", BodyInertia{}, kWorldBody, weld);
+  Random rng(seed);
+  for (int i = 0; i < 60; ++i) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.translation() = rng.Vector(3, -1.0, 1.0);
+    X.translation().z() = std::abs(X.translation().z());
+    builder.AddGeometry("static" + std::to_string(i), i % 3 == 0 ? table : kWorldBody, X,
+                        Sphere{rng.Uniform(0.02, 0.1)});
+  }
+  for (const char* name : {"ball1", "ball2"}) {
+    JointSpec j;
+    j.name = std::string(name) + "_free";
+    j.type = JointType::kFloating;
+    const BodyIndex b = builder.AddBody(name, SolidBall(0.5, 0.1), kWorldBody, j);
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.translation() << 0.05, 0.0, 0.0;  // off-centre: the bound is not at the body origin
+    builder.AddGeometry(std::string(name) + "_sphere", b, X, Sphere{0.1});
+  }
+  if (with_arm) {
+    JointSpec shoulder;
+    shoulder.name = "shoulder";
+    shoulder.type = JointType::kRevolute;
+    shoulder.axis = Eigen::Vector3d::UnitY();
+    shoulder.X_PJ.translation() << 0.0, 0.0, 0.6;
+    const BodyIndex arm = builder.AddBody("arm", SolidBall(1.0, 0.1), kWorldBody, shoulder);
+    Eigen::Isometry3d X_tip = Eigen::Isometry3d::Identity();
+    X_tip.translation() << 0.5, 0.0, 0.0;
+    builder.AddGeometry("tip", arm, X_tip, Sphere{0.03});
+  }
+  return builder.Build();
 }
 
 /// 1 kg at 1 m on a hinge about y; q = 0 hangs down, q = pi is upright.

@@ -4,6 +4,7 @@
 /// Contact on a Model: which geometry pairs can touch (decided once), and per-thread evaluation
 /// of signed distances, contact velocities, forces and the resulting body forces for RNEA.
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -87,6 +88,16 @@ struct ContactData {
   std::vector<int> candidates;
   /// For each pair: its entry in `results`, or -1 when it was pruned (num_pairs()).
   std::vector<int> result_of_pair;
+  /// The broad phase recorded by the last Evaluate (static geometry through the hierarchy):
+  /// for each moving geometry with static partners, the centre of its bounding sphere and how
+  /// far that centre may move before the static pairs in `candidates` may no longer cover every
+  /// pair within the cut-off. EvaluateChanged reuses it when this is its reference, and the
+  /// next Evaluate into this ContactData while it still holds.
+  std::vector<Eigen::Vector3d> broad_phase_center;
+  std::vector<double> broad_phase_clearance;
+  /// Id of the engine that recorded the broad phase above (0: none; EvaluateChanged and
+  /// engines without the hierarchy record none).
+  std::uint64_t broad_phase_owner{0};
 };
 
 /// The immutable contact description of a Model: the list of pairs that can touch.
@@ -113,12 +124,15 @@ class ContactEngine {
   /// entries) take their result from `reference`, an evaluation of this engine at a state where
   /// those bodies had the same poses and velocities (the solver's finite differences: perturbing
   /// one coordinate moves only the bodies downstream of its joint). Results, forces and their
-  /// order are those Evaluate would give, up to the pruning decisions of reused pairs.
+  /// order are those Evaluate would give, up to the pruning decisions of reused pairs. Pairs
+  /// against static geometry go through the same broad phase as in Evaluate, so the cost of a
+  /// call grows with the pairs near the moved bodies, not with all pairs. Allocation-free.
   void EvaluateChanged(const Model& model, const Data& data, const ContactData& reference,
                        const std::vector<char>& body_moved, ContactData* contact_data) const;
 
  private:
   ContactOptions options_;
+  std::uint64_t id_{0};  // distinct per constructed engine, for ContactData::broad_phase_owner
   std::vector<ContactPair> pairs_;
   // Per geometry: bounding-sphere centre in its body frame and radius (inf for half-spaces).
   std::vector<Eigen::Vector3d> bound_center_B_;
@@ -141,15 +155,34 @@ class ContactEngine {
   std::vector<Eigen::Vector3d> static_center_W_;  // per geometry (static ones only)
   // Per moving geometry with static partners: its partners sorted by static geometry index.
   std::vector<GeometryIndex> moving_with_static_;
+  // Per entry of moving_with_static_: its body and bounding-sphere centre in that body.
+  std::vector<BodyIndex> query_body_;
+  std::vector<Eigen::Vector3d> query_center_B_;
   std::vector<std::vector<StaticPartner>> static_partners_;
-  std::vector<int> other_pairs_;  // pairs not handled by the hierarchy, in order
+  std::vector<int> other_pairs_;          // pairs not handled by the hierarchy, in order
+  std::vector<char> pair_in_bvh_;         // per pair: handled by the hierarchy
+  std::vector<BodyIndex> static_bodies_;  // bodies carrying the hierarchy's static geometry
   double max_cutoff_{0.0};
   bool use_bvh_{false};
 
   int BuildBvh(int first, int count);
+  // World-frame centre of the bounding sphere of moving geometry moving_with_static_[m].
+  Eigen::Vector3d MovingCenter(const Data& data, int m) const;
+  // Whether `record` holds a broad phase of this engine that is still valid at `data`: every
+  // moving geometry (only those on bodies flagged in *body_moved, when given) moved less than
+  // its clearance.
+  bool BroadPhaseHolds(const Data& data, const ContactData& record,
+                       const std::vector<char>* body_moved) const;
+  // Appends the static partners of moving geometry moving_with_static_[m] that the hierarchy
+  // cannot exclude (each at most once). When given, *center receives the query's centre and
+  // *clearance how far it may move with the answer still a superset of the pairs in reach.
+  void QueryStatic(const Data& data, int m, std::vector<int>* candidates, Eigen::Vector3d* center,
+                   double* clearance) const;
+  // Zeroes F_ext and the counts and clears result_of_pair's entries of the last results.
+  void ResetResults(ContactData* cd) const;
   bool EvaluatePair(const Model& model, const Data& data, int i, ContactResult* r) const;
   void AddForces(const Data& data, const ContactResult& r, BodyForces* F) const;
-  void CollectCandidates(const Model& model, const Data& data, ContactData* cd) const;
+  void CollectCandidates(const Data& data, ContactData* cd) const;
 };
 
 }  // namespace idto

@@ -14,6 +14,9 @@ enum class ConstraintMethod {
   kLagrangeMultipliers  ///< constrained dogleg on the merit L + h^T lambda
 };
 
+/// The YAML spelling of a constraint method: "none", "penalty" or "lagrange".
+std::string ConstraintMethodName(ConstraintMethod method);
+
 /// Finite-difference scheme for d tau / d q.
 enum class DerivativeMethod { kForwardDifferences, kCentralDifferences };
 

@@ -38,13 +38,19 @@ struct IterationSummary {
   double trial_cost{0.0};
   /// Levenberg-Marquardt shift mu of H + mu diag(H) needed to factor H (0: none).
   double regularization{0.0};
-  // Seconds spent in each phase.
-  double time_derivatives{0.0};
-  double time_cost{0.0};
-  double time_hessian{0.0};
-  double time_factorization{0.0};
-  double time_multipliers{0.0};
-  double time_total{0.0};
+  // Seconds spent in each phase (wall time).
+  double time_derivatives{0.0};    ///< finite-difference inverse dynamics, mass matrices
+  double time_cost{0.0};           ///< the trial point's trajectory and cost
+  double time_hessian{0.0};        ///< gradient and Gauss-Newton Hessian assembly
+  double time_factorization{0.0};  ///< block Cholesky of H (with any regularization retries)
+  double time_multipliers{0.0};    ///< Lagrange multipliers (0 with the penalty method)
+  double time_total{0.0};          ///< the whole iteration
+  /// Seconds spent in contact evaluation (ContactEngine::Evaluate and EvaluateChanged) during
+  /// this iteration's derivative and cost phases: a share of time_derivatives + time_cost.
+  /// Each thread's time inside those calls, summed over the solver's threads (like CPU time),
+  /// so with num_threads > 1 it can exceed the wall time of those phases. 0 when the problem
+  /// has no contact pairs. Measuring it never changes results.
+  double time_contact{0.0};
 };
 
 /// The outcome of a solve.

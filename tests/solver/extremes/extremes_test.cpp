@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -152,6 +153,56 @@ TEST(Extremes, LagrangeMultipliersAtStiffCorners) {
     c.method = ConstraintMethod::kLagrangeMultipliers;
     RunCorner(c);
   }
+}
+
+// The examples themselves at the stiff, sharp corners (their models, weights and horizons):
+// valid status, finite trajectory, and the same answer bit for bit on 1 and 2 threads.
+void RunExampleCorner(const std::string& name, double stiffness, double stiction, double smoothing,
+                      double dt) {
+  SCOPED_TRACE(name + " k " + std::to_string(stiffness) + " v_s " + std::to_string(stiction) +
+               " sigma " + std::to_string(smoothing) + " dt " + std::to_string(dt));
+  const std::vector<std::string> dirs{IDTO_SOURCE_DIR};
+  ExampleConfig config = LoadExampleConfig(FindExampleConfig(name, dirs), dirs);
+  ProblemDefinition& p = config.problem;
+  p.contact.parameters.stiffness = stiffness;
+  p.contact.parameters.stiction_velocity = stiction;
+  p.contact.parameters.smoothing = smoothing;
+  p.time_step = dt;
+  std::vector<Trajectory> solutions(2);
+  std::vector<SolverSummary> summaries;
+  for (int threads : {1, 2}) {
+    SolverOptions o = config.solver;
+    o.max_iterations = 20;
+    o.num_threads = threads;
+    TrajectoryOptimizer opt(config.model, p, o);
+    summaries.push_back(opt.Solve(MakeInitialGuess(config), &solutions[threads - 1]));
+  }
+  const SolverSummary& s = summaries[0];
+  EXPECT_TRUE(s.termination == TerminationType::kConverged ||
+              s.termination == TerminationType::kMaxIterations ||
+              (s.termination == TerminationType::kFailure && !s.message.empty()));
+  EXPECT_TRUE(std::isfinite(s.final_cost));
+  EXPECT_LE(s.final_cost, s.initial_cost * (1 + 1e-12) + 1e-12);
+  for (size_t k = 0; k < solutions[0].q.size(); ++k) {
+    ASSERT_TRUE(solutions[0].q[k].allFinite()) << "q[" << k << "]";
+    ASSERT_TRUE(solutions[0].tau[k].allFinite()) << "tau[" << k << "]";
+    EXPECT_TRUE(solutions[0].q[k] == solutions[1].q[k]) << "q[" << k << "] depends on threads";
+  }
+  EXPECT_EQ(summaries[0].final_cost, summaries[1].final_cost);
+  std::printf(
+      "[corner] %-12s k %.0e v_s %.0e sigma %.0e dt %.3f: %-15s it=%3d cost %.3e -> %.3e "
+      "viol %.2e\n",
+      name.c_str(), stiffness, stiction, smoothing, dt, TerminationTypeName(s.termination).c_str(),
+      s.iterations, s.initial_cost, s.final_cost, s.constraint_violation);
+}
+
+TEST(Extremes, ExamplesAtTheStiffSharpCorners) {
+  RunExampleCorner("spinner", 2e8, 1e-3, 1e-2, 0.05);  // Table 4's hardest cell
+  RunExampleCorner("spinner", 2e8, 1e-3, 1e-5, 0.05);  // no force at a distance: no contact
+  RunExampleCorner("spinner", 2e2, 1e-3, 1e-5, 0.2);
+  RunExampleCorner("hopper", 2e8, 1e-3, 1e-5, 0.05);
+  RunExampleCorner("quadruped", 2e8, 1e-3, 1e-5, 0.05);
+  RunExampleCorner("quadruped", 2e3, 5e-2, 1e-2, 1e-3);
 }
 
 }  // namespace
