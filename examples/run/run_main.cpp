@@ -459,6 +459,8 @@ std::string MakeSummaryJson(const ExampleConfig& config, const std::string& conf
     json.Number(it.time_factorization);
     json.Key("time_multipliers_s");
     json.Number(it.time_multipliers);
+    json.Key("time_contact_s");  // within derivatives and cost; CPU time summed over threads
+    json.Number(it.time_contact);
     json.EndObject();
   }
   json.EndArray();
