@@ -661,8 +661,17 @@ int RunMpc(const Arguments& args, const char* argv0) {
   plant->Reset(config.problem.q_init, config.problem.v_init);
   const idto::ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
   idto::mpc::Controller controller(model, problem, options, mpc.controller);
-  const SolverSummary first =
-      controller.Initialize(idto::MakeInitialGuess(config), mpc.initial_iterations);
+  // The open-loop problem's initial guess (what every measured configuration used so far), or,
+  // when mpc.problem changes the horizon, the same kind of guess for the controller's problem.
+  std::vector<Eigen::VectorXd> guess;
+  if (problem.num_steps == config.problem.num_steps) {
+    guess = idto::MakeInitialGuess(config);
+  } else {
+    ExampleConfig controller_config = config;
+    controller_config.problem = problem;
+    guess = idto::MakeInitialGuess(controller_config);
+  }
+  const SolverSummary first = controller.Initialize(guess, mpc.initial_iterations);
   std::cout << "  initial plan: " << first.BriefReport() << "\n";
   const idto::mpc::ClosedLoopLog log =
       idto::mpc::RunClosedLoop(model, mpc.closed_loop, &controller, plant.get());

@@ -24,6 +24,48 @@ void MpcOptions::Validate(const Model& model) const {
                            "a position index in [0, " + std::to_string(model.nq()) + ")");
     }
   }
+  for (size_t k = 0; k < orientation_leads.size(); ++k) {
+    const OrientationLead& lead = orientation_leads[k];
+    const std::string name = "orientation_leads[" + std::to_string(k) + "]";
+    bool is_quaternion = false;
+    for (const JointIndex j : model.floating_joints()) {
+      is_quaternion = is_quaternion || model.position_start(j) == lead.position_start;
+    }
+    if (!is_quaternion) {
+      ThrowInvalidArgument(kWhere, name + ".position_start", std::to_string(lead.position_start),
+                           "the first position index of a floating joint's quaternion");
+    }
+    if (!(std::isfinite(lead.max_angle) && lead.max_angle > 0.0)) {
+      ThrowInvalidArgument(kWhere, name + ".max_angle", FormatValue(lead.max_angle),
+                           "a finite positive angle in rad");
+    }
+  }
+}
+
+namespace {
+
+Eigen::Quaterniond QuaternionAt(const Eigen::VectorXd& q, int s) {
+  return Eigen::Quaterniond(q(s), q(s + 1), q(s + 2), q(s + 3)).normalized();
+}
+
+void SetQuaternionAt(const Eigen::Quaterniond& Q, int s, Eigen::VectorXd* q) {
+  (*q)(s) = Q.w();
+  (*q)(s + 1) = Q.x();
+  (*q)(s + 2) = Q.y();
+  (*q)(s + 3) = Q.z();
+}
+
+}  // namespace
+
+Eigen::Quaterniond LeadOrientation(const Eigen::Quaterniond& measured,
+                                   const Eigen::Quaterniond& target, double max_angle) {
+  Eigen::Quaterniond E = target * measured.conjugate();  // measured -> target, in J
+  if (E.w() < 0.0) E.coeffs() = -E.coeffs();
+  const double s = E.vec().norm();
+  const double angle = 2.0 * std::atan2(s, E.w());
+  if (angle <= max_angle || s == 0.0) return target;
+  const Eigen::AngleAxisd step(max_angle, E.vec() / s);
+  return (Eigen::Quaterniond(step) * measured).normalized();
 }
 
 void Plan::Sample(const Model& model, double t, Eigen::VectorXd* q_d, Eigen::VectorXd* v_d,
@@ -102,11 +144,23 @@ SolverSummary Controller::Replan(double t, const Eigen::VectorXd& q_hat,
   }
   q_shift_[0] = q_hat;
   optimizer_->ResetInitialConditions(q_hat, v_hat);
-  if (!options_.relative_positions.empty()) {
+  if (!options_.relative_positions.empty() || !options_.orientation_leads.empty()) {
     for (int k = 0; k <= N; ++k) {
       q_nom_[k] = problem_.q_nom[k];
       for (int j : options_.relative_positions) {
         q_nom_[k](j) = q_hat(j) + (problem_.q_nom[k](j) - problem_.q_init(j));
+      }
+    }
+    for (const MpcOptions::OrientationLead& lead : options_.orientation_leads) {
+      const int s = lead.position_start;
+      const Eigen::Quaterniond measured = QuaternionAt(q_hat, s);
+      Eigen::Quaterniond previous = measured;
+      for (int k = 0; k <= N; ++k) {
+        Eigen::Quaterniond Q =
+            LeadOrientation(measured, QuaternionAt(problem_.q_nom[k], s), lead.max_angle);
+        if (Q.dot(previous) < 0.0) Q.coeffs() = -Q.coeffs();
+        SetQuaternionAt(Q, s, &q_nom_[k]);
+        previous = Q;
       }
     }
     optimizer_->UpdateNominalTrajectory(q_nom_, problem_.v_nom);

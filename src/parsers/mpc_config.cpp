@@ -129,8 +129,11 @@ MpcConfig ParseMpcConfig(const ExampleConfig& config) {
                                               "kp",
                                               "kd",
                                               "relative",
+                                              "orientation_lead",
                                               "builtin_contact",
                                               "mujoco_friction",
+                                              "mujoco_torsional_friction",
+                                              "mujoco_rolling_friction",
                                               "disturbances",
                                               "problem"};  // parsed by LoadExampleConfig
   for (const auto& kv : root) {
@@ -241,6 +244,26 @@ MpcConfig ParseMpcConfig(const ExampleConfig& config) {
       }
     }
   }
+  if (root["orientation_lead"]) {
+    const YAML::Node o = root["orientation_lead"];
+    if (!o.IsMap() || o.size() == 0) {
+      c.Fail("orientation_lead", o,
+             "is " + Describe(o) + "; expected a map {floating joint: largest lead in rad}");
+    }
+    for (const auto& kv : o) {
+      const std::string name = kv.first.as<std::string>();
+      const std::string path = "orientation_lead." + name;
+      if (!model.HasJoint(name) ||
+          model.joint_type(model.GetJointIndex(name)) != JointType::kFloating) {
+        c.Fail(path, kv.first,
+               "is \"" + name + "\"; expected a floating joint of the scene (its quaternion)");
+      }
+      mpc::MpcOptions::OrientationLead lead;
+      lead.position_start = model.position_start(model.GetJointIndex(name));
+      lead.max_angle = Positive(c, path, kv.second);
+      m.controller.orientation_leads.push_back(lead);
+    }
+  }
   if (root["builtin_contact"]) {
     const YAML::Node b = root["builtin_contact"];
     if (!b.IsMap()) c.Fail("builtin_contact", b, "is " + Describe(b) + "; expected a map");
@@ -269,6 +292,14 @@ MpcConfig ParseMpcConfig(const ExampleConfig& config) {
   }
   if (root["mujoco_friction"]) {
     m.mujoco.friction_coefficient = NonNegative(c, "mujoco_friction", root["mujoco_friction"]);
+  }
+  if (root["mujoco_torsional_friction"]) {
+    m.mujoco.torsional_friction =
+        NonNegative(c, "mujoco_torsional_friction", root["mujoco_torsional_friction"]);
+  }
+  if (root["mujoco_rolling_friction"]) {
+    m.mujoco.rolling_friction =
+        NonNegative(c, "mujoco_rolling_friction", root["mujoco_rolling_friction"]);
   }
   if (root["disturbances"]) {
     const YAML::Node d = root["disturbances"];

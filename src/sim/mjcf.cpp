@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -364,10 +365,17 @@ bool MjcfOptions::IsValid(std::string* why) const {
         "for the pairs";
   }
   for (size_t i = 0; i < contact_pairs.size() && reason.empty(); ++i) {
-    const double mu = contact_pairs[i].friction_coefficient;
-    if (!(std::isfinite(mu) && mu >= 0.0)) {
-      reason = "contact_pairs[" + std::to_string(i) + "].friction_coefficient is " +
-               FormatValue(mu) + "; expected a finite non-negative number";
+    const MjcfContactPair& pair = contact_pairs[i];
+    const std::pair<const char*, double> coefficients[] = {
+        {"friction_coefficient", pair.friction_coefficient},
+        {"torsional_friction", pair.torsional_friction},
+        {"rolling_friction", pair.rolling_friction}};
+    for (const auto& [name, value] : coefficients) {
+      if (!(std::isfinite(value) && value >= 0.0)) {
+        reason = "contact_pairs[" + std::to_string(i) + "]." + name + " is " + FormatValue(value) +
+                 "; expected a finite non-negative number";
+        break;
+      }
     }
   }
   if (why != nullptr) *why = reason;
@@ -410,9 +418,14 @@ std::string MakeMjcf(const Model& model, const MjcfOptions& options) {
         }
       }
       const std::string mu = Num(pair.friction_coefficient);
+      const int condim = pair.condim();
+      // At condim 3 MuJoCo's defaults fill the unused torsional and rolling entries.
+      const std::string torsional = condim == 3 ? "0.005" : Num(pair.torsional_friction);
+      const std::string rolling = condim == 6 ? Num(pair.rolling_friction) : "0.0001";
       out << "    <pair geom1=\"" << Escape(model.geometries()[pair.geometry_a].name)
-          << "\" geom2=\"" << Escape(model.geometries()[pair.geometry_b].name)
-          << "\" condim=\"3\" friction=\"" << mu << " " << mu << " 0.005 0.0001 0.0001\"/>\n";
+          << "\" geom2=\"" << Escape(model.geometries()[pair.geometry_b].name) << "\" condim=\""
+          << condim << "\" friction=\"" << mu << " " << mu << " " << torsional << " " << rolling
+          << " " << rolling << "\"/>\n";
     }
     out << "  </contact>\n";
   }

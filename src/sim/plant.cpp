@@ -15,6 +15,8 @@ std::string MakeMujocoPlantMjcf(const Model& model, const MujocoPlantOptions& op
   static constexpr const char* kWhere = "MakeMujocoPlantMjcf";
   CheckPositive(kWhere, "options.time_step", options.time_step);
   CheckNonNegative(kWhere, "options.friction_coefficient", options.friction_coefficient);
+  CheckNonNegative(kWhere, "options.torsional_friction", options.torsional_friction);
+  CheckNonNegative(kWhere, "options.rolling_friction", options.rolling_friction);
   // The pairs the planner's engine would evaluate; its law only matters for the friction
   // coefficient (the plant's, unless a per-pair override sets one).
   ContactOptions pairs = options.pairs;
@@ -30,8 +32,9 @@ std::string MakeMujocoPlantMjcf(const Model& model, const MujocoPlantOptions& op
   mjcf.conaffinity = 0;
   mjcf.contact_pairs.reserve(engine.pairs().size());
   for (const ContactPair& pair : engine.pairs()) {
-    mjcf.contact_pairs.push_back(
-        {pair.geometry_a, pair.geometry_b, pair.parameters.friction_coefficient});
+    mjcf.contact_pairs.push_back({pair.geometry_a, pair.geometry_b,
+                                  pair.parameters.friction_coefficient, options.torsional_friction,
+                                  options.rolling_friction});
   }
   return MakeMjcf(model, mjcf);
 }

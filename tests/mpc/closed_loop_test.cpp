@@ -101,6 +101,37 @@ TEST(MpcConfig, ErrorsNameTheKey) {
   throws("relative: [[1, 2]]", "expected a joint name or {joint: [coordinate indices");
 }
 
+TEST(MpcConfig, OrientationLeadAndMujocoFrictionKeys) {
+  ExampleConfig config =
+      LoadExampleConfig(std::string(IDTO_SOURCE_DIR) + "/examples/allegro/allegro.yaml",
+                        {std::string(IDTO_SOURCE_DIR)});
+  config.mpc =
+      "orientation_lead: {ball_root_joint: 0.4}\nmujoco_torsional_friction: 0.002\n"
+      "mujoco_rolling_friction: 0.01";
+  const MpcConfig m = ParseMpcConfig(config);
+  ASSERT_EQ(m.controller.orientation_leads.size(), 1u);
+  EXPECT_EQ(m.controller.orientation_leads[0].position_start,
+            config.model.GetPositionStart("ball_root_joint"));
+  EXPECT_DOUBLE_EQ(m.controller.orientation_leads[0].max_angle, 0.4);
+  EXPECT_DOUBLE_EQ(m.mujoco.torsional_friction, 0.002);
+  EXPECT_DOUBLE_EQ(m.mujoco.rolling_friction, 0.01);
+  auto throws = [&](const std::string& yaml, const std::string& text) {
+    config.mpc = yaml;
+    EXPECT_THAT([&] { ParseMpcConfig(config); }, ::testing::ThrowsMessage<FileError>(AllOf(
+                                                     HasSubstr("allegro.yaml"), HasSubstr(text))));
+  };
+  throws("orientation_lead: {index_joint0: 0.4}",
+         "mpc.orientation_lead.index_joint0 (line 1): is \"index_joint0\"; expected a floating "
+         "joint");
+  throws("orientation_lead: {ball_root_joint: -1}",
+         "mpc.orientation_lead.ball_root_joint (line 1): is -1; expected a positive number");
+  throws("orientation_lead: [ball_root_joint]", "mpc.orientation_lead (line 1): is a list");
+  throws("mujoco_rolling_friction: -0.01",
+         "mpc.mujoco_rolling_friction (line 1): is -0.01; expected a number >= 0");
+  throws("mujoco_torsional_friction: lots",
+         "mpc.mujoco_torsional_friction (line 1): is \"lots\"; expected a finite number");
+}
+
 TEST(MpcConfig, RelativeCoordinatesAndFixedLatency) {
   ExampleConfig config = LoadSpinner();
   config.mpc = "relative: [{spinner_axle: [0]}, finger_elbow]\nlatency: 0.004";

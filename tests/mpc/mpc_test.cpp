@@ -158,6 +158,91 @@ TEST(Controller, RelativeNominalsMoveWithTheMeasuredState) {
   EXPECT_NEAR(c.optimizer().problem().q_nom[20](0), 2.7, 1e-15);
 }
 
+TEST(LeadOrientation, TurnsTowardsTheTargetByAtMostTheLead) {
+  const Eigen::Quaterniond measured(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()));
+  // A target 0.4 rad away (about z, applied on the left): returned as is when within the lead.
+  const Eigen::Quaterniond target =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ())) * measured;
+  EXPECT_TRUE(LeadOrientation(measured, target, 0.5).isApprox(target, 1e-15));
+  const Eigen::Quaterniond led = LeadOrientation(measured, target, 0.1);
+  const Eigen::Quaterniond expected =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ())) * measured;
+  EXPECT_NEAR(led.angularDistance(expected), 0.0, 1e-12);
+  EXPECT_NEAR(led.angularDistance(measured), 0.1, 1e-12);
+  EXPECT_NEAR(led.angularDistance(target), 0.3, 1e-12);
+  // The sign of a quaternion does not matter: -target is the same orientation.
+  const Eigen::Quaterniond minus(-target.w(), -target.x(), -target.y(), -target.z());
+  EXPECT_NEAR(LeadOrientation(measured, minus, 0.1).angularDistance(expected), 0.0, 1e-12);
+  // The shortest way round: a target 3 rad about -z is reached by turning about -z.
+  const Eigen::Quaterniond far(Eigen::AngleAxisd(-3.0, Eigen::Vector3d::UnitZ()));
+  const Eigen::Quaterniond step = LeadOrientation(Eigen::Quaterniond::Identity(), far, 0.5);
+  EXPECT_NEAR(
+      step.angularDistance(Eigen::Quaterniond(Eigen::AngleAxisd(-0.5, Eigen::Vector3d::UnitZ()))),
+      0.0, 1e-12);
+}
+
+// A free ball (no gravity, no contact) whose nominal orientation is 3 rad about z away.
+Model FreeBall() {
+  ModelBuilder b;
+  BodyInertia I;
+  I.mass = 1.0;
+  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 0.01;
+  JointSpec free;
+  free.name = "free";
+  free.type = JointType::kFloating;
+  b.AddBody("ball", I, kWorldBody, free);
+  b.SetGravity(Eigen::Vector3d::Zero());
+  return b.Build();
+}
+
+TEST(Controller, OrientationLeadsMoveTheNominalAheadOfTheMeasuredOrientation) {
+  const Model model = FreeBall();
+  ProblemDefinition p = ProblemDefinition::MakeDefault(model, 0.05, 10);
+  const Eigen::Quaterniond target(Eigen::AngleAxisd(3.0, Eigen::Vector3d::UnitZ()));
+  Eigen::VectorXd q_target = p.q_init;
+  q_target.head<4>() << target.w(), target.x(), target.y(), target.z();
+  q_target.tail<3>() << 0.1, 0.2, 0.3;
+  p.SetConstantNominal(q_target, Eigen::VectorXd::Zero(6));
+  MpcOptions o;
+  o.orientation_leads = {{0, 0.5}};
+  Controller c(model, p, SolverOptions{}, o);
+  c.Initialize(std::vector<Eigen::VectorXd>(11, p.q_init), 2);
+  // Measured: 2.7 rad about z, the position elsewhere. Every knot's nominal: 0.3 rad further
+  // (the target is within the lead), with a sign continuous with the measured quaternion;
+  // positions are the problem's.
+  const Eigen::Quaterniond at(Eigen::AngleAxisd(2.7, Eigen::Vector3d::UnitZ()));
+  Eigen::VectorXd q_hat = p.q_init;
+  q_hat.head<4>() << -at.w(), -at.x(), -at.y(), -at.z();
+  c.Replan(0.05, q_hat, Eigen::VectorXd::Zero(6));
+  for (const Eigen::VectorXd& q : c.optimizer().problem().q_nom) {
+    const Eigen::Quaterniond Q(q(0), q(1), q(2), q(3));
+    EXPECT_NEAR(Q.angularDistance(target), 0.0, 1e-12);
+    EXPECT_GT(q.head<4>().dot(q_hat.head<4>()), 0.0);
+    EXPECT_EIGEN_NEAR(Eigen::Vector3d(q.tail<3>()), Eigen::Vector3d(0.1, 0.2, 0.3), 0.0);
+  }
+  // From the start (3 rad away): 0.5 rad ahead about +z, the shortest way.
+  c.Replan(0.1, p.q_init, Eigen::VectorXd::Zero(6));
+  const Eigen::Quaterniond lead(Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()));
+  for (const Eigen::VectorXd& q : c.optimizer().problem().q_nom) {
+    EXPECT_NEAR(Eigen::Quaterniond(q(0), q(1), q(2), q(3)).angularDistance(lead), 0.0, 1e-12);
+    EXPECT_GT(q(0), 0.0);
+  }
+}
+
+TEST(Controller, OrientationLeadsAreValidated) {
+  const Model model = FreeBall();
+  const ProblemDefinition p = ProblemDefinition::MakeDefault(model, 0.05, 10);
+  MpcOptions o;
+  o.orientation_leads = {{1, 0.5}};  // not the first index of a quaternion
+  EXPECT_THAT([&] { Controller(model, p, SolverOptions{}, o); },
+              ::testing::ThrowsMessage<std::invalid_argument>(
+                  HasSubstr("orientation_leads[0].position_start")));
+  o.orientation_leads = {{0, 0.0}};
+  EXPECT_THAT(
+      [&] { Controller(model, p, SolverOptions{}, o); },
+      ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("orientation_leads[0].max_angle")));
+}
+
 TEST(Controller, AFailedReplanKeepsThePreviousPlan) {
   const Model model = Pendulum();
   const ProblemDefinition p = SwingUp(model);

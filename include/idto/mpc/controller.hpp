@@ -10,6 +10,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "idto/mpc/pd_controller.hpp"
 #include "idto/mpc/spline.hpp"
@@ -30,6 +31,20 @@ struct MpcOptions {
   /// initial condition are kept (the spinner's target stays 2 rad ahead; a walking robot's
   /// target stays ahead of its base).
   std::vector<int> relative_positions;
+  /// Orientation targets approached at a bounded lead: for each entry, the nominal orientation
+  /// of the floating joint whose quaternion starts at position index `position_start` is, at
+  /// each re-plan and knot k, the measured orientation turned towards the problem's nominal
+  /// Qbar0_k by at most `max_angle` (rad, > 0) about the axis of the shortest rotation between
+  /// them (in the joint's frame J): Qbar_k = exp(min(theta_k, max_angle) a_k / 2) Q_measured,
+  /// where Qbar0_k Q_measured^-1 turns by theta_k in [0, pi] about a_k. The target thus moves
+  /// with the object, a bounded angle ahead of it, and stops at the problem's nominal (paper
+  /// §6.4's Allegro ball turned 180 degrees; a far target held over the whole horizon asks for
+  /// more rotation than one real-time iteration can plan). Knot signs are kept continuous.
+  struct OrientationLead {
+    int position_start{0};  ///< index of the quaternion's w in q
+    double max_angle{0.5};  ///< rad
+  };
+  std::vector<OrientationLead> orientation_leads;
   PdGains gains;  ///< nv each; zero gives pure feed-forward
   /// Actuated velocity indices for the PD+ controller (default: all but the problem's
   /// unactuated DoFs).
@@ -47,6 +62,12 @@ struct Plan {
   void Sample(const Model& model, double t, Eigen::VectorXd* q_d, Eigen::VectorXd* v_d,
               Eigen::VectorXd* u_ff) const;
 };
+
+/// The orientation `measured` turned towards `target` by at most `max_angle` (rad) about the
+/// axis of the shortest rotation between them, composed on the left (in the frame both are
+/// expressed in); `target` itself when it is within max_angle. (MpcOptions::orientation_leads.)
+Eigen::Quaterniond LeadOrientation(const Eigen::Quaterniond& measured,
+                                   const Eigen::Quaterniond& target, double max_angle);
 
 /// The controller. Owns a TrajectoryOptimizer; not thread-safe itself.
 class Controller {

@@ -31,9 +31,14 @@ struct MpcConfig {
 ///   kp, kd: a number for every actuated DoF, a list of nv, or {default: x, joint: value},
 ///   relative: [joint names, or {joint: [coordinate indices within the joint]}] whose position
 ///     coordinates keep their nominal offsets from the measured state,
+///   orientation_lead: {floating joint: angle in rad > 0}: the joint's nominal orientation is
+///     the measured one turned towards the problem's nominal by at most that angle
+///     (mpc::MpcOptions::orientation_leads),
 ///   builtin_contact: {stiffness, smoothing, dissipation_velocity, friction_coefficient,
 ///                     stiction_velocity},
 ///   mujoco_friction (default: the scene's friction coefficient),
+///   mujoco_torsional_friction, mujoco_rolling_friction (m, default 0: MuJoCo's torsional and
+///     rolling friction on every pair, condim 4 / 6; sim::MujocoPlantOptions),
 ///   disturbances: [{body, start, duration, force: [fx, fy, fz]}],
 ///   problem: overrides of the open-loop `problem` keys for the controller (parsed by
 ///     LoadExampleConfig into ExampleConfig::mpc_problem).

@@ -55,13 +55,25 @@
 
 namespace idto {
 
-/// An explicit MuJoCo contact pair: `<pair geom1=... geom2=... friction="mu mu 0.005 0.0001
-/// 0.0001"/>` in `<contact>` (condim 3). MuJoCo collides explicit pairs whatever the geoms'
-/// contype/conaffinity.
+/// An explicit MuJoCo contact pair in `<contact>`. MuJoCo collides explicit pairs whatever the
+/// geoms' contype/conaffinity. With no torsional and no rolling friction (the default) it is
+/// `<pair geom1=... geom2=... condim="3" friction="mu mu 0.005 0.0001 0.0001"/>` (sliding
+/// friction only; the last three numbers are MuJoCo's defaults and unused at condim 3). With
+/// torsional friction only it is condim 4 (`friction="mu mu torsional 0.0001 0.0001"`), with
+/// rolling friction condim 6 (`friction="mu mu torsional rolling rolling"`). MuJoCo's torsional
+/// and rolling coefficients are lengths (m): the largest torque about the contact normal,
+/// respectively about the two tangent axes, is that length times the normal force.
 struct MjcfContactPair {
   GeometryIndex geometry_a{0};  ///< index into Model::geometries()
   GeometryIndex geometry_b{0};
   double friction_coefficient{1.0};  ///< sliding friction (>= 0)
+  double torsional_friction{0.0};    ///< m (>= 0); > 0 selects condim 4 (or 6)
+  double rolling_friction{0.0};      ///< m (>= 0); > 0 selects condim 6
+  /// MuJoCo's condim for these coefficients: 3, 4 or 6.
+  int condim() const {
+    if (rolling_friction > 0.0) return 6;
+    return torsional_friction > 0.0 ? 4 : 3;
+  }
 };
 
 /// Options of MakeMjcf. The defaults describe the same dynamics as idto (no contact solver

@@ -104,6 +104,14 @@ struct MujocoPlantOptions {
   double time_step{1e-3};  ///< s
   /// Sliding friction of every pair (unless a per-pair override in `pairs` sets one).
   double friction_coefficient{1.0};
+  /// Torsional friction of every pair, m (>= 0): the largest torque about the contact normal is
+  /// this length times the normal force (MuJoCo's condim 4). 0 (default): none.
+  double torsional_friction{0.0};
+  /// Rolling friction of every pair, m (>= 0): the largest torque about a tangent axis is this
+  /// length times the normal force (MuJoCo's condim 6, with torsional_friction about the
+  /// normal). 0 (default): none. A point contact resists no spin or roll; torsional and rolling
+  /// friction stand in for the torque of a contact patch (e.g. a soft ball on a palm).
+  double rolling_friction{0.0};
   /// Pair selection as in the planner: every pair a ContactEngine(model, pairs) evaluates
   /// becomes an explicit MuJoCo `<pair>`, and no other pair collides (MakeMujocoPlantMjcf).
   /// The law's other parameters are not used: MuJoCo's contact is its own.
@@ -114,7 +122,11 @@ struct MujocoPlantOptions {
 /// Euler integration, and one explicit `<pair>` per pair that a ContactEngine(model,
 /// options.pairs) evaluates (every other collision disabled through contype = conaffinity = 0),
 /// so the scene's filters hold exactly. Friction: options.friction_coefficient, or a per-pair
-/// override's friction_coefficient from options.pairs. Needs no MuJoCo (for inspection and tests).
+/// override's friction_coefficient from options.pairs; torsional and rolling friction:
+/// options.torsional_friction and options.rolling_friction on every pair (condim 3 when both are
+/// 0, 4 with torsional friction only, 6 with rolling friction; MjcfContactPair). Throws
+/// InvalidArgument on a non-positive time step or a negative or non-finite coefficient. Needs no
+/// MuJoCo (for inspection and tests).
 std::string MakeMujocoPlantMjcf(const Model& model, const MujocoPlantOptions& options);
 
 /// True when idto was built with MuJoCo.
