@@ -658,13 +658,15 @@ int RunMpc(const Arguments& args, const char* argv0) {
   std::unique_ptr<idto::sim::Plant> plant = mpc.plant == "mujoco"
                                                 ? idto::sim::MakeMujocoPlant(model, mpc.mujoco)
                                                 : idto::sim::MakeBuiltinPlant(model, mpc.builtin);
-  plant->Reset(config.problem.q_init, config.problem.v_init);
+  // The controller's problem (mpc.problem overrides, if any) also gives the plant's start.
   const idto::ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
+  plant->Reset(problem.q_init, problem.v_init);
   idto::mpc::Controller controller(model, problem, options, mpc.controller);
   // The open-loop problem's initial guess (what every measured configuration used so far), or,
-  // when mpc.problem changes the horizon, the same kind of guess for the controller's problem.
+  // when mpc.problem changes the horizon or the initial state, the same kind of guess for the
+  // controller's problem.
   std::vector<Eigen::VectorXd> guess;
-  if (problem.num_steps == config.problem.num_steps) {
+  if (problem.num_steps == config.problem.num_steps && problem.q_init == config.problem.q_init) {
     guess = idto::MakeInitialGuess(config);
   } else {
     ExampleConfig controller_config = config;
