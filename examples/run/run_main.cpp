@@ -662,18 +662,8 @@ int RunMpc(const Arguments& args, const char* argv0) {
   const idto::ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
   plant->Reset(problem.q_init, problem.v_init);
   idto::mpc::Controller controller(model, problem, options, mpc.controller);
-  // The open-loop problem's initial guess (what every measured configuration used so far), or,
-  // when mpc.problem changes the horizon or the initial state, the same kind of guess for the
-  // controller's problem.
-  std::vector<Eigen::VectorXd> guess;
-  if (problem.num_steps == config.problem.num_steps && problem.q_init == config.problem.q_init) {
-    guess = idto::MakeInitialGuess(config);
-  } else {
-    ExampleConfig controller_config = config;
-    controller_config.problem = problem;
-    guess = idto::MakeInitialGuess(controller_config);
-  }
-  const SolverSummary first = controller.Initialize(guess, mpc.initial_iterations);
+  const SolverSummary first =
+      controller.Initialize(idto::examples::ClosedLoopInitialGuess(config), mpc.initial_iterations);
   std::cout << "  initial plan: " << first.BriefReport() << "\n";
   const idto::mpc::ClosedLoopLog log =
       idto::mpc::RunClosedLoop(model, mpc.closed_loop, &controller, plant.get());

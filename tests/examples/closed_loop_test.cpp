@@ -22,6 +22,7 @@
 namespace idto {
 namespace {
 
+using examples::ClosedLoopInitialGuess;
 using examples::EvaluateClosedLoopTask;
 using examples::TaskResult;
 
@@ -114,10 +115,10 @@ TaskResult RunAgainstMujoco(const std::string& name, double latency) {
   mpc.closed_loop.latency = mpc::LatencyModel::kFixed;
   mpc.closed_loop.fixed_latency = latency;
   std::unique_ptr<sim::Plant> plant = sim::MakeMujocoPlant(config.model, mpc.mujoco);
-  plant->Reset(config.problem.q_init, config.problem.v_init);
   const ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
+  plant->Reset(problem.q_init, problem.v_init);
   mpc::Controller controller(config.model, problem, config.solver, mpc.controller);
-  controller.Initialize(MakeInitialGuess(config), mpc.initial_iterations);
+  controller.Initialize(ClosedLoopInitialGuess(config), mpc.initial_iterations);
   const mpc::ClosedLoopLog log =
       mpc::RunClosedLoop(config.model, mpc.closed_loop, &controller, plant.get());
   EXPECT_EQ(log.failure, "");
