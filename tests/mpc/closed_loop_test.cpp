@@ -11,6 +11,7 @@
 #include "idto/mpc/closed_loop.hpp"
 #include "idto/parsers/mpc_config.hpp"
 #include "idto/sim/plant.hpp"
+#include "support/test_models.hpp"
 
 namespace idto {
 namespace {
@@ -52,16 +53,7 @@ TEST(ClosedLoop, SpinnerOnTheBuiltinPlantKeepsSpinning) {
 
 TEST(ClosedLoop, ADisturbancePushesThePlant) {
   // A free-floating ball (no contact, no gravity) pushed for 0.1 s by 1 N along x.
-  ModelBuilder b;
-  BodyInertia I;
-  I.mass = 1.0;
-  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 0.01;
-  JointSpec free;
-  free.name = "free";
-  free.type = JointType::kFloating;
-  b.AddBody("ball", I, kWorldBody, free);
-  b.SetGravity(Eigen::Vector3d::Zero());
-  const Model model = b.Build();
+  const Model model = test::FreeBodyWithoutGravity();
   ProblemDefinition p = ProblemDefinition::MakeDefault(model, 0.05, 10);
   p.Qq.setConstant(1.0);
   p.R.setConstant(1.0);

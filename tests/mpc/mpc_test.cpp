@@ -182,18 +182,7 @@ TEST(LeadOrientation, TurnsTowardsTheTargetByAtMostTheLead) {
 }
 
 // A free ball (no gravity, no contact) whose nominal orientation is 3 rad about z away.
-Model FreeBall() {
-  ModelBuilder b;
-  BodyInertia I;
-  I.mass = 1.0;
-  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 0.01;
-  JointSpec free;
-  free.name = "free";
-  free.type = JointType::kFloating;
-  b.AddBody("ball", I, kWorldBody, free);
-  b.SetGravity(Eigen::Vector3d::Zero());
-  return b.Build();
-}
+Model FreeBall() { return test::FreeBodyWithoutGravity(); }
 
 TEST(Controller, OrientationLeadsMoveTheNominalAheadOfTheMeasuredOrientation) {
   const Model model = FreeBall();

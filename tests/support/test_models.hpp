@@ -177,6 +177,21 @@ inline Model StaticCrowd(std::uint32_t seed, bool with_arm) {
   return builder.Build();
 }
 
+/// A free 1 kg body "ball" on a floating joint "free" (inertia 0.01 I), without gravity or
+/// contact geometry.
+inline Model FreeBodyWithoutGravity() {
+  ModelBuilder b;
+  BodyInertia I;
+  I.mass = 1.0;
+  I.I_BBcm_B = Eigen::Matrix3d::Identity() * 0.01;
+  JointSpec free;
+  free.name = "free";
+  free.type = JointType::kFloating;
+  b.AddBody("ball", I, kWorldBody, free);
+  b.SetGravity(Eigen::Vector3d::Zero());
+  return b.Build();
+}
+
 /// 1 kg at 1 m on a hinge about y; q = 0 hangs down, q = pi is upright.
 inline Model Pendulum(double damping = 0.1) {
   ModelBuilder b("pendulum");
