@@ -474,6 +474,23 @@ TEST(BuiltinPlant, ExplicitSchemeDivergesOnTheQuadrupedAndSaysSo) {
   EXPECT_TRUE(plant->q().allFinite() && plant->v().allFinite());
 }
 
+TEST(BuiltinPlant, RunawayFiniteStateCountsAsDivergedLikeMujoco) {
+  // A finite but absurd command (a controller gone wrong) drives the pendulum's speed past 1e10
+  // rad/s in one step. The plant must say so (MuJoCo's instability check uses the same bound)
+  // rather than hand the closed loop a finite, meaningless state.
+  const Model model = PendulumModel();
+  std::unique_ptr<Plant> plant = sim::MakeBuiltinPlant(model, {});
+  plant->Reset(Eigen::VectorXd::Constant(1, 0.1), Eigen::VectorXd::Zero(1));
+  plant->Advance(1e-3, Eigen::VectorXd::Constant(1, 1e3));  // large but sane: accepted
+  const Eigen::VectorXd q_good = plant->q(), v_good = plant->v();
+  EXPECT_LT(std::abs(v_good(0)), 1e10);
+  EXPECT_THAT([&] { plant->Advance(1e-3, Eigen::VectorXd::Constant(1, 1e15)); },
+              ThrowsMessage<std::runtime_error>(AllOf(
+                  HasSubstr("diverged"), HasSubstr("beyond 1e10"), HasSubstr("max |u| = 1e+15"))));
+  EXPECT_EQ(plant->q(), q_good);  // the last good state is kept
+  EXPECT_EQ(plant->v(), v_good);
+}
+
 TEST(BuiltinPlant, AdvanceDoesNotAllocate) {
   if (!test::AllocationCountingAvailable()) GTEST_SKIP() << "malloc is owned by a sanitizer";
   Model model;
