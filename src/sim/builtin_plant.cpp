@@ -41,8 +41,9 @@ constexpr double kMaxStateMagnitude = 1e10;
 constexpr const char* kMaxStateMagnitudeText = "1e10";
 
 bool IsDiverged(const Eigen::VectorXd& q, const Eigen::VectorXd& v) {
-  return !(q.allFinite() && v.allFinite()) || q.cwiseAbs().maxCoeff() > kMaxStateMagnitude ||
-         v.cwiseAbs().maxCoeff() > kMaxStateMagnitude;
+  // any() is false on empty vectors (a model without DoFs), where maxCoeff() would assert.
+  return !(q.allFinite() && v.allFinite()) || (q.array().abs() > kMaxStateMagnitude).any() ||
+         (v.array().abs() > kMaxStateMagnitude).any();
 }
 
 // The scene's pair selection with the plant's own law: the parameters are replaced, and of the
