@@ -611,6 +611,65 @@ TEST(MujocoPlant, ExtraDampingIsImplicit) {
   EXPECT_THROW(ball->SetExtraDamping(Eigen::VectorXd::Constant(6, 1.0)), InvalidArgument);
 }
 
+// The hopper (models/hopper.urdf, planar base) standing on its level foot, its knee and ankle
+// held by PD with the damping handed to the plant as extra (implicit) damping, as the closed loop
+// does. Returns the standard deviation of the foot's contact force and the largest ankle speed
+// over the last `window` steps of `steps` 1 ms steps.
+void HoldHopper(Plant* plant, const Model& model, double kp, double kd, int steps, int window,
+                double* force_sd, double* max_ankle_speed) {
+  Eigen::VectorXd q0(5);
+  // Base height with the foot spheres' lowest points exactly on the ground (models/README.md).
+  q0 << 0.0, 0.25 * std::cos(0.3) + 0.3 * std::cos(0.2) + 0.08, 0.3, -0.5, 0.2;
+  plant->Reset(q0, Eigen::VectorXd::Zero(5));
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(5);
+  d.tail<2>().setConstant(kd);
+  plant->SetExtraDamping(d);
+  const BodyIndex foot = model.GetBodyIndex("foot");
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(5);
+  double sum = 0.0, sum2 = 0.0;
+  *max_ankle_speed = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    u.tail<2>() = kp * (q0.tail<2>() - plant->q().tail<2>());
+    plant->Advance(1e-3, u);
+    ASSERT_TRUE(plant->q().allFinite()) << "step " << i;
+    if (i >= steps - window) {
+      const double f = plant->contact_force_per_body()(foot);
+      sum += f;
+      sum2 += f * f;
+      *max_ankle_speed = std::max(*max_ankle_speed, std::abs(plant->v()(4)));
+    }
+  }
+  *force_sd = std::sqrt(std::max(0.0, sum2 / window - (sum / window) * (sum / window)));
+}
+
+TEST(MujocoPlant, StiffImplicitDampingKeepsALightFootQuietOnTheGround) {
+  // The hopper's 0.1 kg foot under an ankle damper of 10 N m s/rad: h d / I is about 24 at 1 ms.
+  // The damping must be implicit in the same step as the contact forces: applied after MuJoCo's
+  // constraint solve (its own implicit dof_damping), the foot chattered on the ground (contact
+  // force varying by tens of N under a 12.75 N robot) and the closed-loop hopper tumbled.
+  const std::string path = ModelPath("hopper.urdf");
+  if (!std::ifstream(path).good()) GTEST_SKIP() << "models/hopper.urdf not found";
+  ModelBuilder builder("hopper_scene");
+  UrdfOptions urdf;
+  urdf.base = BaseType::kPlanar;
+  urdf.planar_normal = Eigen::Vector3d(0, -1, 0);
+  AddUrdfFile(path, urdf, &builder);
+  builder.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
+  const Model model = builder.Build();
+  MujocoPlantOptions options;
+  options.pairs.included_pairs = {{"ground", "*"}};
+  std::unique_ptr<Plant> plant = sim::MakeMujocoPlant(model, options);
+  const double weight = 1.3 * 9.81;
+  for (const double kd : {1.0, 5.0, 10.0}) {
+    double force_sd = 0.0, max_ankle_speed = 0.0;
+    HoldHopper(plant.get(), model, 100.0, kd, 1500, 500, &force_sd, &max_ankle_speed);
+    EXPECT_LT(force_sd, 0.02 * weight) << "kd " << kd;
+    EXPECT_LT(max_ankle_speed, 0.02) << "kd " << kd;
+    EXPECT_NEAR(plant->contact_force_per_body()(model.GetBodyIndex("foot")), weight, 0.05 * weight)
+        << "kd " << kd;
+  }
+}
+
 TEST(MujocoPlant, Available) {
   EXPECT_TRUE(sim::HaveMujoco());
   std::unique_ptr<Plant> plant = sim::MakeMujocoPlant(BallModel(), {});
