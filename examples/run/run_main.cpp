@@ -642,7 +642,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
   const std::string config_path = idto::FindExampleConfig(args.config, share_dirs);
   ExampleConfig config = idto::LoadExampleConfig(config_path, share_dirs);
   const idto::MpcConfig mpc = idto::ParseMpcConfig(config);
-  idto::SolverOptions options = config.solver;
+  idto::SolverOptions options = config.mpc_solver.value_or(config.solver);
   if (args.threads) options.num_threads = *args.threads;
   if (args.constraints) options.constraint_method = *args.constraints;
   options.verbosity = 0;

@@ -594,7 +594,25 @@ class ConfigLoader {
       YAML::Emitter emitter;
       emitter << mpc;
       config_.mpc = emitter.c_str();
-      if (mpc["problem"]) LoadMpcProblem(top.Get("problem"), mpc["problem"]);
+      // The controller's own contact law (parameters only: the scene's pair filters and
+      // per-pair overrides stay) and solver options, when given.
+      if (mpc["problem"] || mpc["contact"]) {
+        const ContactOptions scene_contact = contact_;
+        if (mpc["contact"]) {
+          LoadContactParameters(
+              MapReader(reader_, mpc["contact"], "mpc.contact", kContactParameterKeys),
+              &contact_.parameters);
+        }
+        LoadMpcProblem(top.Get("problem"),
+                       mpc["problem"] ? mpc["problem"] : YAML::Node(YAML::NodeType::Map));
+        contact_ = scene_contact;
+      }
+      if (mpc["solver"]) {
+        const SolverOptions open_loop = config_.solver;
+        LoadSolver(MapReader(reader_, mpc["solver"], "mpc.solver", kSolverKeys));
+        config_.mpc_solver = config_.solver;
+        config_.solver = open_loop;
+      }
     }
     return std::move(config_);
   }
@@ -808,14 +826,18 @@ class ConfigLoader {
     return pairs;
   }
 
+  // The law's parameters present in `c`, over the values in *p.
+  static void LoadContactParameters(const MapReader& c, ContactParameters* p) {
+    p->stiffness = c.Positive("stiffness", p->stiffness);
+    p->smoothing = c.Positive("smoothing", p->smoothing);
+    p->dissipation_velocity = c.Positive("dissipation_velocity", p->dissipation_velocity);
+    p->friction_coefficient = c.NonNegative("friction_coefficient", p->friction_coefficient);
+    p->stiction_velocity = c.Positive("stiction_velocity", p->stiction_velocity);
+  }
+
   void LoadContact(const MapReader& c) {
     ContactOptions& options = contact_;
-    ContactParameters& p = options.parameters;
-    p.stiffness = c.Positive("stiffness", p.stiffness);
-    p.smoothing = c.Positive("smoothing", p.smoothing);
-    p.dissipation_velocity = c.Positive("dissipation_velocity", p.dissipation_velocity);
-    p.friction_coefficient = c.NonNegative("friction_coefficient", p.friction_coefficient);
-    p.stiction_velocity = c.Positive("stiction_velocity", p.stiction_velocity);
+    LoadContactParameters(c, &options.parameters);
     options.force_tolerance = c.NonNegative("force_tolerance", options.force_tolerance);
     if (c.Has("excluded_pairs")) {
       options.excluded_pairs = ReadPairs(c.Get("excluded_pairs"), c.Path("excluded_pairs"));
@@ -1071,7 +1093,7 @@ class ConfigLoader {
     o.fixed_iterations = s.Bool("fixed_iterations", o.fixed_iterations);
     o.verbosity = s.Int("verbosity", o.verbosity, 0);
     std::string why;
-    if (!o.IsValid(&why)) reader_.Fail(s.node(), "solver", "invalid options: " + why);
+    if (!o.IsValid(&why)) reader_.Fail(s.node(), s.path(), "invalid options: " + why);
   }
 
   static_assert(static_cast<int>(ConstraintMethod::kNone) == 0 &&

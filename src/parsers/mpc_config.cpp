@@ -119,23 +119,12 @@ MpcConfig ParseMpcConfig(const ExampleConfig& config) {
     ThrowFileError(config.source_file, "mpc", std::string("is not valid YAML: ") + e.what());
   }
   if (!root.IsMap()) c.Fail("", root, "is " + Describe(root) + "; expected a map");
-  static const std::set<std::string> kKeys = {"control_rate",
-                                              "iterations_per_step",
-                                              "duration",
-                                              "initial_iterations",
-                                              "plant",
-                                              "plant_time_step",
-                                              "latency",
-                                              "kp",
-                                              "kd",
-                                              "relative",
-                                              "orientation_lead",
-                                              "builtin_contact",
-                                              "mujoco_friction",
-                                              "mujoco_torsional_friction",
-                                              "mujoco_rolling_friction",
-                                              "disturbances",
-                                              "problem"};  // parsed by LoadExampleConfig
+  static const std::set<std::string> kKeys = {
+      "control_rate", "iterations_per_step", "duration", "initial_iterations", "plant",
+      "plant_time_step", "latency", "kp", "kd", "relative", "orientation_lead", "builtin_contact",
+      "mujoco_friction", "mujoco_torsional_friction", "mujoco_rolling_friction", "disturbances",
+      // parsed by LoadExampleConfig:
+      "problem", "contact", "solver"};
   for (const auto& kv : root) {
     const std::string key = kv.first.as<std::string>();
     if (!kKeys.count(key)) {

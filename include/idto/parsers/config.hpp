@@ -75,11 +75,17 @@ struct ExampleConfig {
   /// idto/parsers/mpc_config.hpp): checked to be a map and kept here as YAML text (empty when
   /// absent).
   std::string mpc;
-  /// The controller's problem when `mpc.problem` is given: `problem` with the keys of
-  /// `mpc.problem` replacing the open-loop ones (`nominal` and `weights` merged key by key),
-  /// validated like `problem` (errors name "mpc.problem.<key>"). Empty otherwise: the controller
-  /// uses `problem`.
+  /// The controller's problem when `mpc.problem` or `mpc.contact` is given: `problem` with the
+  /// keys of `mpc.problem` replacing the open-loop ones (`nominal` and `weights` merged key by
+  /// key) and the contact law parameters of `mpc.contact` replacing the scene's (pair filters and
+  /// per-pair overrides stay the scene's), validated like `problem` (errors name
+  /// "mpc.problem.<key>" or "mpc.contact.<key>"). Empty otherwise: the controller uses `problem`.
   std::optional<ProblemDefinition> mpc_problem;
+  /// The controller's solver options when `mpc.solver` is given: `solver` with the keys of
+  /// `mpc.solver` replacing the open-loop ones (errors name "mpc.solver.<key>"). Empty
+  /// otherwise: the controller uses `solver`. (`mpc.contact`, the controller's contact law
+  /// parameters over the scene's, ends up in mpc_problem->contact.)
+  std::optional<SolverOptions> mpc_solver;
 };
 
 /// Loads and checks a configuration file. URDF paths in `scene.models[i].urdf` are resolved, in
