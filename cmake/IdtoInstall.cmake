@@ -23,3 +23,7 @@ install(FILES ${PROJECT_BINARY_DIR}/idtoConfig.cmake ${PROJECT_BINARY_DIR}/idtoC
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/models DESTINATION ${CMAKE_INSTALL_DATADIR}/idto)
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/examples DESTINATION ${CMAKE_INSTALL_DATADIR}/idto
   FILES_MATCHING PATTERN "*.yaml" PATTERN "*.md")
+
+# The build tree exports the same targets, so a consumer can use an uninstalled build:
+# find_package(idto) with idto_DIR (or CMAKE_PREFIX_PATH) pointing at this build folder.
+export(EXPORT idtoTargets NAMESPACE idto:: FILE ${PROJECT_BINARY_DIR}/idtoTargets.cmake)

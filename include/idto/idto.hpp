@@ -13,6 +13,7 @@
 #include "idto/math/quaternion.hpp"
 #include "idto/math/spatial.hpp"
 // multibody
+#include "idto/multibody/algorithms/discrete_velocity.hpp"
 #include "idto/multibody/algorithms/dynamics.hpp"
 #include "idto/multibody/algorithms/jacobians.hpp"
 #include "idto/multibody/algorithms/kinematics.hpp"
@@ -28,9 +29,13 @@
 // contact
 #include "idto/contact/contact_engine.hpp"
 #include "idto/contact/contact_law.hpp"
+#include "idto/contact/inverse_dynamics_with_contact.hpp"
 // problem and solver
+#include "idto/problem/derivative_method.hpp"
 #include "idto/problem/problem_definition.hpp"
-#include "idto/solver/penta_diagonal_matrix.hpp"
+#include "idto/problem/trajectory_state.hpp"
+#include "idto/problem/transcription.hpp"
+#include "idto/math/penta_diagonal_matrix.hpp"
 #include "idto/solver/solver_options.hpp"
 #include "idto/solver/solver_summary.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"

@@ -13,6 +13,7 @@
 
 #include "idto/contact/contact_engine.hpp"
 #include "idto/contact/contact_law.hpp"
+#include "idto/contact/inverse_dynamics_with_contact.hpp"
 #include "idto/core/errors.hpp"
 #include "idto/multibody/algorithms/dynamics.hpp"
 #include "idto/multibody/algorithms/jacobians.hpp"
@@ -191,8 +192,7 @@ class BuiltinPlant final : public Plant {
   // The brief's scheme: every force at (q, v), v += h a, q = q + h v.
   void ExplicitStep(int disturbed_body, const Eigen::Vector3d& f_ext_W) {
     const double h = options_.time_step;
-    ForwardKinematics(model_, q_, v_, &data_);
-    engine_.Evaluate(model_, data_, &contact_data_);
+    CalcKinematicsAndContact(model_, engine_, q_, v_, &data_, &contact_data_);
     ExternalForces(true, disturbed_body, f_ext_W);
     tau_ = u_ + tau_ext_;
     tau_ -= extra_damping_.cwiseProduct(v_);  // explicit here, like every other force
@@ -213,8 +213,7 @@ class BuiltinPlant final : public Plant {
   // method with a line search on the objective's slope.
   void ImplicitStep(int disturbed_body, const Eigen::Vector3d& f_ext_W) {
     const double h = options_.time_step;
-    ForwardKinematics(model_, q_, v_, &data_);
-    engine_.Evaluate(model_, data_, &contact_data_);
+    CalcKinematicsAndContact(model_, engine_, q_, v_, &data_, &contact_data_);
     num_contacts_ = 0;
     for (int i = 0; i < contact_data_.num_active; ++i) {
       const ContactResult& r = contact_data_.results[i];

@@ -15,6 +15,8 @@ std::string TerminationTypeName(TerminationType type) {
       return "failure";
     case TerminationType::kUserTermination:
       return "user";
+    case TerminationType::kUserAbort:
+      return "user_abort";
   }
   return "unknown";
 }

@@ -1,8 +1,10 @@
 // Closed loop: the spinner example against the built-in plant makes progress; the latency
 // model and logs; the mpc: section's errors.
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -42,10 +44,19 @@ TEST(ClosedLoop, SpinnerOnTheBuiltinPlantKeepsSpinning) {
               1.0);
   EXPECT_EQ(log.num_rejected_plans, 0);
   for (const Eigen::VectorXd& q : log.q) ASSERT_TRUE(q.allFinite());
-  // Timing itself is measured by benchmarks, not asserted here (a sanitizer build is slow).
-  EXPECT_GE(log.fraction_on_time(), 0.0);
-  EXPECT_LE(log.fraction_on_time(), 1.0);
-  EXPECT_LE(log.percentile_solve_time(50), log.max_solve_time());
+  // Timing itself is measured by benchmarks, not asserted here (a sanitizer build is slow); the
+  // log's statistics are checked against their definitions on the logged solve times.
+  ASSERT_FALSE(log.solve_time.empty());
+  std::vector<double> sorted = log.solve_time;
+  std::sort(sorted.begin(), sorted.end());
+  int on_time = 0;
+  for (double t : log.solve_time) on_time += t <= log.control_period ? 1 : 0;
+  EXPECT_DOUBLE_EQ(log.fraction_on_time(), static_cast<double>(on_time) / sorted.size());
+  EXPECT_DOUBLE_EQ(log.max_solve_time(), sorted.back());
+  // The median, interpolated between the two middle entries for an even count.
+  const size_t n = sorted.size();
+  const double median = n % 2 == 1 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+  EXPECT_NEAR(log.percentile_solve_time(50), median, 1e-15);
   const std::string csv = log.ToCsv(config.model);
   EXPECT_THAT(csv, HasSubstr("q_spinner_axle"));
   EXPECT_THAT(csv, HasSubstr("contact_"));

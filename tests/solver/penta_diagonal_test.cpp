@@ -5,7 +5,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
-#include "idto/solver/penta_diagonal_matrix.hpp"
+#include "idto/math/penta_diagonal_matrix.hpp"
 #include "support/eigen_matchers.hpp"
 #include "support/random.hpp"
 

@@ -5,6 +5,8 @@
 
 #include <string>
 
+#include "idto/problem/derivative_method.hpp"
+
 namespace idto {
 
 /// How the unactuated-torque constraint h(q) = 0 is handled (paper §5.2).
@@ -16,9 +18,6 @@ enum class ConstraintMethod {
 
 /// The YAML spelling of a constraint method: "none", "penalty" or "lagrange".
 std::string ConstraintMethodName(ConstraintMethod method);
-
-/// Finite-difference scheme for d tau / d q.
-enum class DerivativeMethod { kForwardDifferences, kCentralDifferences };
 
 /// Diagonal scaling D of the trust region.
 enum class ScalingMethod {

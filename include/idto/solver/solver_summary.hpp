@@ -13,10 +13,11 @@ enum class TerminationType {
   kMaxIterations,   ///< ran out of iterations (the normal outcome with fixed_iterations)
   kFailure,         ///< numerical trouble (non-finite cost, failed factorization); last good
                     ///< iterate kept
-  kUserTermination  ///< a callback asked to stop
+  kUserTermination,  ///< a callback asked to stop, successfully (kTerminateSuccessfully)
+  kUserAbort         ///< a callback aborted the solve (kAbort); last good iterate kept
 };
 
-/// "converged", "max_iterations", "failure" or "user".
+/// "converged", "max_iterations", "failure", "user" or "user_abort".
 std::string TerminationTypeName(TerminationType type);
 
 /// Dogleg step kinds.

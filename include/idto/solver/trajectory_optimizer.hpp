@@ -24,13 +24,20 @@ struct Trajectory {
   std::vector<Eigen::VectorXd> tau;
 };
 
-/// What a callback returns after each iteration.
-enum class CallbackReturn { kContinue, kAbort, kTerminate };
+/// What a callback returns after each iteration (Ceres' SOLVER_CONTINUE /
+/// SOLVER_TERMINATE_SUCCESSFULLY / SOLVER_ABORT).
+enum class CallbackReturn {
+  kContinue,                ///< go on
+  kTerminateSuccessfully,   ///< stop: the iterate is good (TerminationType::kUserTermination)
+  kAbort,                   ///< stop: something is wrong (TerminationType::kUserAbort)
+  kTerminate = kTerminateSuccessfully  ///< the earlier spelling of kTerminateSuccessfully
+};
 using IterationCallback = std::function<CallbackReturn(const IterationSummary&)>;
 
-/// Solves a ProblemDefinition. Holds all per-iteration buffers, so repeated solves (MPC) do not
-/// allocate after the first iteration. Not thread-safe itself: it uses options.num_threads
-/// internally.
+/// Solves a ProblemDefinition: the Gauss-Newton trust-region minimizer (solver/) over the
+/// problem's Transcription (problem/transcription.hpp). Holds all per-iteration buffers, so
+/// repeated solves (MPC) do not allocate after the first iteration. Not thread-safe itself: it
+/// uses options.num_threads internally.
 class TrajectoryOptimizer {
  public:
   /// Validates the problem and options (throws InvalidArgument naming the field).

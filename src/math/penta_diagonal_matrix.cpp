@@ -1,4 +1,4 @@
-#include "idto/solver/penta_diagonal_matrix.hpp"
+#include "idto/math/penta_diagonal_matrix.hpp"
 
 #include <algorithm>
 #include <cmath>

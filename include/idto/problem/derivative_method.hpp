@@ -1,0 +1,14 @@
+#pragma once
+
+/// @file
+/// How the transcription differentiates tau_k with respect to q_s.
+
+namespace idto {
+
+/// The derivative method of d tau / d q (TauDerivativeEvaluator).
+enum class DerivativeMethod {
+  kForwardDifferences,  ///< one perturbed evaluation per coordinate, step sqrt(eps) relative
+  kCentralDifferences   ///< two per coordinate, step cbrt(eps) relative
+};
+
+}  // namespace idto

@@ -1,0 +1,321 @@
+#include "idto/problem/transcription.hpp"
+
+#include <string>
+#include <utility>
+
+#include "idto/contact/inverse_dynamics_with_contact.hpp"
+#include "idto/core/errors.hpp"
+#include "idto/core/parallel.hpp"
+#include "idto/multibody/algorithms/discrete_velocity.hpp"
+#include "problem/transcription_workspace.hpp"
+
+namespace idto {
+
+Transcription::Transcription(const Model& model, const ProblemDefinition& problem)
+    : model_(model), problem_(problem) {
+  problem_.Validate(model_);
+  N_ = problem_.num_steps;
+  nq_ = model_.nq();
+  nv_ = model_.nv();
+  dt_ = problem_.time_step;
+  unactuated_ = problem_.UnactuatedDofs(model_);
+  if (problem_.enable_contact && model_.geometries().size() >= 2) {
+    engine_.emplace(model_, problem_.contact);
+    if (engine_->num_pairs() == 0) engine_.reset();
+  }
+  // Bodies downstream of each position coordinate's joint (welded bodies included).
+  moved_by_q_.assign(nq_, std::vector<char>(model_.num_bodies(), 0));
+  for (BodyIndex b = 1; b < model_.num_bodies(); ++b) {
+    for (BodyIndex m = model_.mobilized_body(b); m != kWorldBody; m = model_.moving_parent(m)) {
+      for (int k = 0; k < model_.joint_nq(m); ++k) {
+        moved_by_q_[model_.position_start(m) + k][b] = 1;
+      }
+    }
+  }
+  SetPenaltyWeight(0.0);
+  SetNumThreads(1);
+  SetDerivativeMethod(DerivativeMethod::kForwardDifferences, 0.0);
+}
+
+Transcription::~Transcription() = default;
+Transcription::Transcription(Transcription&&) noexcept = default;
+Transcription& Transcription::operator=(Transcription&&) noexcept = default;
+
+void Transcription::SetInitialConditions(const Eigen::VectorXd& q_init,
+                                         const Eigen::VectorXd& v_init) {
+  problem_.q_init = q_init;
+  problem_.v_init = v_init;
+}
+
+void Transcription::SetProblem(ProblemDefinition problem) {
+  problem_ = std::move(problem);
+  SetPenaltyWeight(penalty_weight_);
+}
+
+void Transcription::SetPenaltyWeight(double weight) {
+  penalty_weight_ = weight;
+  R_eff_ = problem_.R;
+  if (weight > 0.0) {
+    for (int d : unactuated_) R_eff_(d) = weight;
+  }
+  WR_ = dt_ * R_eff_;
+  Wq_run_ = dt_ * problem_.Qq;
+  Wv_run_ = dt_ * problem_.Qv;
+}
+
+void Transcription::SetNumThreads(int num_threads) {
+  if (num_threads < 1) {
+    ThrowInvalidArgument("Transcription::SetNumThreads", "num_threads",
+                         std::to_string(num_threads), ">= 1");
+  }
+  num_threads_ = num_threads;
+  workspaces_.reserve(num_threads);
+  while (static_cast<int>(workspaces_.size()) < num_threads) {
+    workspaces_.push_back(std::make_unique<TranscriptionWorkspace>(model_, engine()));
+  }
+}
+
+void Transcription::SetDerivativeMethod(DerivativeMethod method, double relative_step) {
+  // Only on change: repeated solves (MPC) re-apply their options without allocating.
+  if (evaluator_ && !custom_evaluator_ && method == derivative_method_ &&
+      relative_step == relative_step_) {
+    return;
+  }
+  evaluator_ = MakeTauDerivativeEvaluator(method, relative_step);
+  derivative_method_ = method;
+  relative_step_ = relative_step;
+  custom_evaluator_ = false;
+}
+
+void Transcription::SetDerivativeEvaluator(std::unique_ptr<TauDerivativeEvaluator> evaluator) {
+  if (evaluator == nullptr) {
+    ThrowInvalidArgument("Transcription::SetDerivativeEvaluator", "evaluator", "null",
+                         "an evaluator");
+  }
+  evaluator_ = std::move(evaluator);
+  custom_evaluator_ = true;
+}
+
+std::unique_ptr<TauDerivativeEvaluator> MakeTauDerivativeEvaluator(DerivativeMethod method,
+                                                                   double relative_step) {
+  switch (method) {
+    case DerivativeMethod::kForwardDifferences:
+    case DerivativeMethod::kCentralDifferences:
+      return MakeFiniteDifferenceEvaluator(method, relative_step);
+  }
+  ThrowInvalidArgument("MakeTauDerivativeEvaluator", "method",
+                       std::to_string(static_cast<int>(method)), "a DerivativeMethod");
+}
+
+TrajectoryState Transcription::MakeState() const {
+  const Eigen::VectorXd zq = Eigen::VectorXd::Zero(nq_), zv = Eigen::VectorXd::Zero(nv_);
+  TrajectoryState s;
+  s.q.assign(N_ + 1, zq);
+  s.v.assign(N_ + 1, zv);
+  s.a.assign(N_, zv);
+  s.tau.assign(N_, zv);
+  if (engine_) s.contact.assign(N_, engine_->MakeData(model_));
+  return s;
+}
+
+TrajectoryDerivatives Transcription::MakeDerivatives() const {
+  const Eigen::MatrixXd zvq = Eigen::MatrixXd::Zero(nv_, nq_);
+  TrajectoryDerivatives d;
+  d.Nplus.assign(N_ + 1, zvq);
+  d.dv_dq.assign(N_ + 1, zvq);
+  d.dv_dqm.assign(N_ + 1, zvq);
+  d.dtau_dqm.assign(N_, zvq);
+  d.dtau_dq.assign(N_, zvq);
+  d.dtau_dqp.assign(N_, zvq);
+  d.M.assign(N_ + 1, Eigen::MatrixXd::Zero(nv_, nv_));
+  return d;
+}
+
+void Transcription::CalcTau(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                            const Eigen::VectorXd& a, TranscriptionWorkspace* ws,
+                            Eigen::VectorXd* tau, ContactData* contact,
+                            const ContactData* reuse_from,
+                            const std::vector<char>* moved) const {
+  const ContactReuse reuse{reuse_from, moved};
+  *tau = InverseDynamicsWithContact(model_, engine(), q, v, a, &ws->data,
+                                    contact != nullptr ? contact : &ws->contact,
+                                    reuse_from != nullptr ? &reuse : nullptr, &ws->contact_ticks);
+}
+
+double Transcription::Evaluate(TrajectoryState* s) {
+  s->v[0] = problem_.v_init;
+  for (int k = 1; k <= N_; ++k) CalcDiscreteVelocity(model_, s->q[k], s->q[k - 1], dt_, &s->v[k]);
+  for (int k = 0; k < N_; ++k) s->a[k] = (s->v[k + 1] - s->v[k]) / dt_;
+  ParallelFor(0, N_, num_threads_, [&](int k, int thread) {
+    CalcTau(s->q[k + 1], s->v[k + 1], s->a[k], workspaces_[thread].get(), &s->tau[k],
+            engine_ ? &s->contact[k] : nullptr);
+  });
+  s->cost = Cost(*s);
+  return s->cost;
+}
+
+double Transcription::Cost(const TrajectoryState& s) const {
+  // Fixed summation order: bitwise identical for any thread count.
+  double L = 0.0;
+  for (int k = 0; k < N_; ++k) {
+    double running = 0.0;
+    for (int i = 0; i < nq_; ++i) {
+      const double e = s.q[k](i) - problem_.q_nom[k](i);
+      running += problem_.Qq(i) * e * e;
+    }
+    for (int i = 0; i < nv_; ++i) {
+      const double e = s.v[k](i) - problem_.v_nom[k](i);
+      running += problem_.Qv(i) * e * e + R_eff_(i) * s.tau[k](i) * s.tau[k](i);
+    }
+    L += 0.5 * dt_ * running;
+  }
+  double terminal = 0.0;
+  for (int i = 0; i < nq_; ++i) {
+    const double e = s.q[N_](i) - problem_.q_nom[N_](i);
+    terminal += problem_.Qfq(i) * e * e;
+  }
+  for (int i = 0; i < nv_; ++i) {
+    const double e = s.v[N_](i) - problem_.v_nom[N_](i);
+    terminal += problem_.Qfv(i) * e * e;
+  }
+  return L + 0.5 * terminal;
+}
+
+double Transcription::ConstraintViolation(const TrajectoryState& s) const {
+  double sum = 0.0;
+  for (int k = 0; k < N_; ++k) {
+    for (int d : unactuated_) sum += s.tau[k](d) * s.tau[k](d);
+  }
+  return sum;
+}
+
+void Transcription::CalcDerivatives(const TrajectoryState& s, TrajectoryDerivatives* d) {
+  for (int k = 1; k <= N_; ++k) {
+    CalcDiscreteVelocityPartials(model_, s.q[k], s.q[k - 1], dt_, s.v[k], &d->Nplus[k],
+                                 &d->dv_dq[k], &d->dv_dqm[k]);
+  }
+  evaluator_->Calc(s, this, d);
+}
+
+void Transcription::CalcGradient(const TrajectoryState& s, const TrajectoryDerivatives& d,
+                                 Eigen::VectorXd* g) {
+  ParallelFor(1, N_ + 1, num_threads_, [&](int k, int thread) {
+    Eigen::VectorXd& t = workspaces_[thread]->scratch_v;
+    auto gk = g->segment((k - 1) * nq_, nq_);
+    gk = Wq(k).cwiseProduct(s.q[k] - problem_.q_nom[k]);
+    t = Wv(k).cwiseProduct(s.v[k] - problem_.v_nom[k]);
+    gk.noalias() += d.dv_dq[k].transpose() * t;
+    if (k < N_) {
+      t = Wv(k + 1).cwiseProduct(s.v[k + 1] - problem_.v_nom[k + 1]);
+      gk.noalias() += d.dv_dqm[k + 1].transpose() * t;
+    }
+    for (int j = k - 1; j <= k + 1; ++j) {
+      if (j < 0 || j > N_ - 1) continue;
+      t = WR_.cwiseProduct(s.tau[j]);
+      gk.noalias() += d.DtauDq(j, k).transpose() * t;
+    }
+  });
+}
+
+namespace {
+
+// out += X^T diag(w) Y, with scratch T (nv x nq): no temporaries.
+void AddWeightedProduct(const Eigen::MatrixXd& X, const Eigen::VectorXd& w,
+                        const Eigen::MatrixXd& Y, Eigen::MatrixXd* T, Eigen::MatrixXd* out) {
+  T->noalias() = w.asDiagonal() * Y;
+  out->noalias() += X.transpose() * (*T);
+}
+
+}  // namespace
+
+void Transcription::CalcHessianRow(const TrajectoryDerivatives& d, int k, Eigen::MatrixXd* T,
+                                   PentaDiagonalMatrix* H) const {
+  const int r = k - 1;
+  Eigen::MatrixXd& C = H->C(r);
+  C.setZero();
+  C.diagonal() = Wq(k);
+  AddWeightedProduct(d.dv_dq[k], Wv(k), d.dv_dq[k], T, &C);
+  if (k < N_) AddWeightedProduct(d.dv_dqm[k + 1], Wv(k + 1), d.dv_dqm[k + 1], T, &C);
+  for (int j = k - 1; j <= k + 1; ++j) {
+    if (j < 0 || j > N_ - 1) continue;
+    AddWeightedProduct(d.DtauDq(j, k), WR_, d.DtauDq(j, k), T, &C);
+  }
+  // Exact symmetry of the diagonal block.
+  for (int c = 0; c < nq_; ++c) {
+    for (int i = c + 1; i < nq_; ++i) {
+      const double m = 0.5 * (C(i, c) + C(c, i));
+      C(i, c) = m;
+      C(c, i) = m;
+    }
+  }
+  if (k >= 2) {
+    Eigen::MatrixXd& B = H->B(r);
+    B.setZero();
+    AddWeightedProduct(d.dv_dq[k], Wv(k), d.dv_dqm[k], T, &B);
+    for (int j = k - 1; j <= k; ++j) {
+      if (j > N_ - 1) continue;
+      AddWeightedProduct(d.DtauDq(j, k), WR_, d.DtauDq(j, k - 1), T, &B);
+    }
+  }
+  if (k >= 3) {
+    Eigen::MatrixXd& A = H->A(r);
+    A.setZero();
+    AddWeightedProduct(d.DtauDq(k - 1, k), WR_, d.DtauDq(k - 1, k - 2), T, &A);
+  }
+}
+
+void Transcription::CalcHessian(const TrajectoryState&, const TrajectoryDerivatives& d,
+                                PentaDiagonalMatrix* H) {
+  // One block row per task: rows are independent, so the result is deterministic.
+  ParallelFor(1, N_ + 1, num_threads_, [&](int k, int thread) {
+    CalcHessianRow(d, k, &workspaces_[thread]->scratch_vq, H);
+  });
+}
+
+void Transcription::CalcConstraints(const TrajectoryState& s, Eigen::VectorXd* h) const {
+  const int nu = num_unactuated();
+  for (int j = 0; j < N_; ++j) {
+    for (int u = 0; u < nu; ++u) (*h)(j * nu + u) = s.tau[j](unactuated_[u]);
+  }
+}
+
+double Transcription::Merit(const TrajectoryState& s, const Eigen::VectorXd& lambda) const {
+  const int nu = num_unactuated();
+  double sum = s.cost;
+  for (int j = 0; j < N_; ++j) {
+    for (int u = 0; u < nu; ++u) sum += lambda(j * nu + u) * s.tau[j](unactuated_[u]);
+  }
+  return sum;
+}
+
+void Transcription::ConstraintBlock(const TrajectoryDerivatives& d, int j, int s,
+                                    Eigen::Ref<Eigen::MatrixXd> block) const {
+  const Eigen::MatrixXd& T = d.DtauDq(j, s);
+  for (int u = 0; u < num_unactuated(); ++u) block.row(u) = T.row(unactuated_[u]);
+}
+
+void Transcription::CalcDenseConstraintJacobianTranspose(const TrajectoryDerivatives& d,
+                                                         Eigen::MatrixXd* At) const {
+  const int nu = num_unactuated();
+  At->setZero();
+  for (int j = 0; j < N_; ++j) {
+    for (int s = j - 1; s <= j + 1; ++s) {
+      if (s < 1 || s > N_) continue;
+      const Eigen::MatrixXd& T = d.DtauDq(j, s);
+      for (int u = 0; u < nu; ++u) {
+        At->block((s - 1) * nq_, j * nu + u, nq_, 1) = T.row(unactuated_[u]).transpose();
+      }
+    }
+  }
+}
+
+std::uint64_t Transcription::TakeContactTicks() {
+  std::uint64_t total = 0;
+  for (auto& ws : workspaces_) {
+    total += ws->contact_ticks;
+    ws->contact_ticks = 0;
+  }
+  return total;
+}
+
+}  // namespace idto

@@ -1,0 +1,43 @@
+#pragma once
+
+// Per-thread scratch of the transcription and its derivative evaluators (private to src/).
+
+#include <cstdint>
+
+#include <Eigen/Core>
+
+#include "idto/contact/contact_engine.hpp"
+#include "idto/multibody/data.hpp"
+#include "idto/multibody/model.hpp"
+
+namespace idto {
+
+struct TranscriptionWorkspace {
+  TranscriptionWorkspace(const Model& model, const ContactEngine* engine)
+      : data(model),
+        v(Eigen::VectorXd::Zero(model.nv())),
+        v_next(Eigen::VectorXd::Zero(model.nv())),
+        a(Eigen::VectorXd::Zero(model.nv())),
+        a_next(Eigen::VectorXd::Zero(model.nv())),
+        tau_a(Eigen::VectorXd::Zero(model.nv())),
+        tau_b(Eigen::VectorXd::Zero(model.nv())),
+        tau_c(Eigen::VectorXd::Zero(model.nv())),
+        tau_d(Eigen::VectorXd::Zero(model.nv())),
+        q(Eigen::VectorXd::Zero(model.nq())),
+        scratch_v(Eigen::VectorXd::Zero(model.nv())),
+        scratch_vq(Eigen::MatrixXd::Zero(model.nv(), model.nq())) {
+    if (engine != nullptr) contact = engine->MakeData(model);
+  }
+  Data data;
+  ContactData contact;
+  // Ticks this thread spent in contact evaluation since the last TakeContactTicks() (written
+  // by this thread only; read after the parallel loop).
+  std::uint64_t contact_ticks{0};
+  // Finite differences: perturbed q, v, a and their tau (nq / nv each).
+  Eigen::VectorXd v, v_next, a, a_next, tau_a, tau_b, tau_c, tau_d, q;
+  // Assembly scratch (nested Eigen products would otherwise allocate temporaries): nv, nv x nq.
+  Eigen::VectorXd scratch_v;
+  Eigen::MatrixXd scratch_vq;
+};
+
+}  // namespace idto

@@ -1,0 +1,66 @@
+#pragma once
+
+// The trust-region strategy of the minimizer (paper §5.1, Nocedal & Wright ch. 4): diagonal
+// scaling, the Levenberg-Marquardt shift that makes H factorable, the Cauchy point, the dogleg
+// step, the radius update and the named convergence tests. Private to src/: small functions
+// over preallocated vectors, no state of their own.
+
+#include <string>
+
+#include <Eigen/Core>
+
+#include "idto/math/penta_diagonal_matrix.hpp"
+#include "idto/solver/solver_options.hpp"
+#include "idto/solver/solver_summary.hpp"
+
+namespace idto::internal {
+
+// Smallest trust radius (scaled coordinates); reaching it means no progress is possible.
+constexpr double kMinTrustRadius = 1e-12;
+
+// D (N nq) from the Hessian's diagonal: diag(H)^(-1/2) or ^(-1/4), 1 where the diagonal is not
+// positive and finite or scaling is off.
+void CalcScaling(const PentaDiagonalMatrix& H, ScalingMethod method, Eigen::VectorXd* D);
+
+// Factors *H. A Gauss-Newton Hessian is positive semi-definite in exact arithmetic, but with
+// stiff contact its entries span ~18 orders of magnitude and round-off can make it numerically
+// indefinite (or a block singular). Then retries with H + mu diag(H) (scale invariant, a
+// Levenberg-Marquardt shift), mu = 1e-12, 1e-10, ..., 1e-2; the shift stays in *H, so the step
+// and the predicted reduction use the same model. *mu: the shift used. `diagonal` is scratch
+// (N nq). False when even the largest shift fails.
+bool FactorizeWithShift(PentaDiagonalMatrix* H, PentaDiagonalCholesky* chol,
+                        Eigen::VectorXd* diagonal, double* mu);
+
+// The Cauchy point of the scaled model: p_C = -(|D g|^2 / (D^2 g)^T H (D^2 g)) D^2 g (or -D^2 g
+// without positive curvature). Scratch d2g and Hd2g (N nq).
+void CalcCauchyPoint(const PentaDiagonalMatrix& H, const Eigen::VectorXd& g,
+                     const Eigen::VectorXd& D, Eigen::VectorXd* d2g, Eigen::VectorXd* Hd2g,
+                     Eigen::VectorXd* p_cauchy);
+
+// The dogleg step in scaled coordinates (p = D p~) between the Cauchy and Newton points for
+// trust radius `radius`; *p receives it and *scaled_norm |D^-1 p|. Scratch w, u (N nq).
+DoglegStep CalcDoglegStep(const Eigen::VectorXd& p_newton, const Eigen::VectorXd& p_cauchy,
+                          const Eigen::VectorXd& D, double radius, Eigen::VectorXd* w,
+                          Eigen::VectorXd* u, Eigen::VectorXd* p, double* scaled_norm);
+
+// The ratio of actual to predicted reduction; -inf when the trial merit is not finite or no
+// reduction was predicted.
+double ReductionRatio(double merit, double trial_merit, double predicted);
+
+// Radius update (Nocedal & Wright, Algorithm 4.1): shrink to a quarter of the step when
+// rho < 1/4; double (up to max_radius) when rho > 3/4 and the step reached the boundary.
+double UpdateTrustRadius(double ratio, double scaled_step_norm, double radius,
+                         double max_radius);
+
+// Convergence tests after an accepted step; on success *message says which one held.
+bool CostChangeConverged(double previous, double cost, const SolverOptions& options,
+                         std::string* message);
+bool GradientConverged(double g_dot_p, double cost, const SolverOptions& options,
+                       std::string* message);
+bool StepConverged(double step_norm, double q_norm, const SolverOptions& options,
+                   std::string* message);
+// Near a stationary point the predicted reduction sinks to round-off and steps are rejected
+// for noise: that is convergence, not failure.
+bool PredictedReductionNegligible(double predicted, double merit);
+
+}  // namespace idto::internal

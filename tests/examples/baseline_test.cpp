@@ -1,0 +1,109 @@
+// Every example, both constraint methods, 15 iterations on 1 thread: the final cost and q_N equal
+// the results recorded before the solver was split into a transcription and a minimizer (issue
+// "One place per idea"), to 1e-9 relative. A change of these numbers is a change of the method,
+// not a refactoring: record new values only on purpose, with
+//   IDTO_RECORD_BASELINE=tests/data/baseline/solver_baseline.txt
+//   ./build/tests/idto_examples_test --gtest_filter='Baseline.*'
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "idto/idto.hpp"
+
+namespace idto {
+namespace {
+
+const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
+const char* kBaselineFile = IDTO_TEST_DATA_DIR "/baseline/solver_baseline.txt";
+
+const std::vector<std::string> kExamples = {
+    "pendulum", "acrobot",  "spinner",  "hopper",   "quadruped", "quadruped_hills",
+    "allegro",  "bimanual", "bimanual_lift", "bimanual_balance"};
+
+struct Result {
+  double final_cost{0.0};
+  Eigen::VectorXd q_final;
+};
+
+Result SolveExample(const std::string& name, ConstraintMethod method) {
+  ExampleConfig config = LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
+  config.solver.max_iterations = 15;
+  config.solver.num_threads = 1;
+  config.solver.constraint_method = method;
+  TrajectoryOptimizer optimizer(config.model, config.problem, config.solver);
+  Trajectory solution;
+  const SolverSummary summary = optimizer.Solve(MakeInitialGuess(config), &solution);
+  return {summary.final_cost, solution.q.back()};
+}
+
+std::string Key(const std::string& name, ConstraintMethod method) {
+  return name + " " + ConstraintMethodName(method);
+}
+
+// Lines "name method final_cost nq q_N...".
+std::map<std::string, Result> ReadBaseline() {
+  std::map<std::string, Result> out;
+  std::ifstream in(kBaselineFile);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream s(line);
+    std::string name, method;
+    Result r;
+    int nq = 0;
+    s >> name >> method >> r.final_cost >> nq;
+    r.q_final.resize(nq);
+    for (int i = 0; i < nq; ++i) s >> r.q_final(i);
+    out[name + " " + method] = r;
+  }
+  return out;
+}
+
+TEST(Baseline, EveryExampleMatchesThePreRedesignSolver) {
+  const std::vector<ConstraintMethod> methods = {ConstraintMethod::kPenalty,
+                                                 ConstraintMethod::kLagrangeMultipliers};
+  if (const char* record = std::getenv("IDTO_RECORD_BASELINE")) {
+    std::FILE* f = std::fopen(record, "w");
+    ASSERT_NE(f, nullptr) << record;
+    std::fprintf(f, "# name method final_cost nq q_N (15 iterations, 1 thread)\n");
+    for (const std::string& name : kExamples) {
+      for (ConstraintMethod m : methods) {
+        const Result r = SolveExample(name, m);
+        std::fprintf(f, "%s %.17g %d", Key(name, m).c_str(), r.final_cost,
+                     static_cast<int>(r.q_final.size()));
+        for (int i = 0; i < r.q_final.size(); ++i) std::fprintf(f, " %.17g", r.q_final(i));
+        std::fprintf(f, "\n");
+      }
+    }
+    std::fclose(f);
+    GTEST_SKIP() << "recorded " << record;
+  }
+  const std::map<std::string, Result> baseline = ReadBaseline();
+  ASSERT_EQ(baseline.size(), kExamples.size() * methods.size()) << kBaselineFile;
+  for (const std::string& name : kExamples) {
+    for (ConstraintMethod m : methods) {
+      SCOPED_TRACE(Key(name, m));
+      const Result& expected = baseline.at(Key(name, m));
+      const Result r = SolveExample(name, m);
+      EXPECT_LE(std::abs(r.final_cost - expected.final_cost),
+                1e-9 * std::max(1.0, std::abs(expected.final_cost)))
+          << r.final_cost << " vs " << expected.final_cost;
+      ASSERT_EQ(r.q_final.size(), expected.q_final.size());
+      EXPECT_LE((r.q_final - expected.q_final).norm(),
+                1e-9 * std::max(1.0, expected.q_final.norm()));
+    }
+  }
+}
+
+}  // namespace
+}  // namespace idto
