@@ -30,6 +30,7 @@
 #include "idto/contact/contact_law.hpp"
 // problem and solver
 #include "idto/problem/problem_definition.hpp"
+#include "idto/solver/banded_kkt.hpp"
 #include "idto/solver/penta_diagonal_matrix.hpp"
 #include "idto/solver/solver_options.hpp"
 #include "idto/solver/solver_summary.hpp"
