@@ -10,12 +10,26 @@
 // threads). The largest case (ball + finger, Lagrange, N = 320) takes about 0.7 s per
 // iteration, so any --benchmark_min_time below that runs it exactly once.
 // Names: "solver/<problem>/<penalty|lagrange>/threads:<T>/N:<N>".
+//
+// The KKT step alone (issue 17) on random problems of the sizes of the examples, over the same
+// horizons: "solver/kkt/<size>/<route>/N:<N>", size acrobot (n = 4, nu = 2), ball_finger
+// (n = 9, nu = 3) or allegro (n = 23, nu = 6); route
+//   banded:   BandedKktSolver::Factor + Solve (λ and the Newton step p) + g_merit = g + Aᵀλ,
+//             with the default one step of iterative refinement (banded_unrefined: none);
+//   dense:    today's route: block Cholesky of H, Y = L⁻¹Aᵀ, A H⁻¹ Aᵀ = YᵀY dense and its LLT,
+//             λ, g_merit and p = −H⁻¹ g_merit (Aᵀ filled densely as CalcConstraints does);
+//             not run for allegro at N = 320 (about 10 s and 0.3 GB);
+//   cholesky: the block Cholesky of H and one solve (the penalty method's step), the reference
+//             for "the ratio to the penta-diagonal Cholesky".
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
 #include <benchmark/benchmark.h>
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 
 #include "idto/idto.hpp"
@@ -148,6 +162,138 @@ void Register() {
   }
 }
 
-const bool kRegistered = (Register(), true);
+// A random positive definite pentadiagonal H (block diagonally dominant), constraint blocks,
+// g and h of the given sizes.
+struct KktProblem {
+  idto::PentaDiagonalMatrix H;
+  idto::BlockConstraintJacobian A;
+  Eigen::VectorXd g, h;
+};
+
+KktProblem RandomKktProblem(int N, int n, int nu) {
+  std::mt19937 engine(42);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  auto random = [&](int rows, int cols, double scale) {
+    Eigen::MatrixXd M(rows, cols);
+    for (int j = 0; j < cols; ++j)
+      for (int i = 0; i < rows; ++i) M(i, j) = scale * u(engine);
+    return M;
+  };
+  KktProblem P{idto::PentaDiagonalMatrix(N, n), idto::BlockConstraintJacobian(N, n, nu), {}, {}};
+  for (int k = 0; k < N; ++k) {
+    const Eigen::MatrixXd R = random(n, n, 0.1 / n);
+    P.H.C(k) = R + R.transpose();
+    P.H.C(k).diagonal().array() += 3.0;
+    if (k >= 1) P.H.B(k) = random(n, n, 0.1 / n);
+    if (k >= 2) P.H.A(k) = random(n, n, 0.1 / n);
+    for (int s = k - 1; s <= k + 1; ++s) {
+      if (P.A.HasBlock(k, s)) P.A.Block(k, s) = random(nu, n, 1.0);
+    }
+  }
+  P.g = random(N * n, 1, 1.0);
+  P.h = random(N * nu, 1, 1.0);
+  return P;
+}
+
+void BM_KktBanded(benchmark::State& state, int n, int nu, int refinement_steps) {
+  const int N = static_cast<int>(state.range(0));
+  const KktProblem P = RandomKktProblem(N, n, nu);
+  idto::BandedKktSolver kkt(N, n, nu);
+  kkt.set_refinement_steps(refinement_steps);
+  Eigen::VectorXd p(N * n), lambda(N * nu), g_merit(N * n);
+  for (auto _ : state) {
+    if (!kkt.Factor(P.H, P.A).ok()) {
+      state.SkipWithError(kkt.status().Message().c_str());
+      break;
+    }
+    kkt.Solve(P.g, P.h, &p, &lambda);
+    g_merit = P.g;
+    P.A.AddMultiplyTranspose(lambda, &g_merit);
+    benchmark::DoNotOptimize(p.data());
+    benchmark::DoNotOptimize(g_merit.data());
+  }
+}
+
+void BM_KktDense(benchmark::State& state, int n, int nu) {
+  const int N = static_cast<int>(state.range(0));
+  const KktProblem P = RandomKktProblem(N, n, nu);
+  idto::PentaDiagonalCholesky chol(N, n);
+  const int m = N * nu;
+  Eigen::MatrixXd At(N * n, m), Y(N * n, m), S(m, m);
+  Eigen::LLT<Eigen::MatrixXd> S_llt(m);
+  Eigen::VectorXd work(N * n), lambda(m), g_merit(N * n), p(N * n);
+  for (auto _ : state) {
+    chol.compute(P.H);
+    At.setZero();
+    for (int j = 0; j < N; ++j) {
+      for (int s = j - 1; s <= j + 1; ++s) {
+        if (P.A.HasBlock(j, s)) {
+          At.block((s - 1) * n, j * nu, n, nu) = P.A.Block(j, s).transpose();
+        }
+      }
+    }
+    Y = At;
+    for (int j = 0; j < N; ++j) {
+      chol.SolveLowerInPlace(Y.middleCols(j * nu, nu), std::max(j - 2, 0));
+    }
+    S.setZero();
+    S.selfadjointView<Eigen::Lower>().rankUpdate(Y.transpose());
+    S_llt.compute(S);
+    work = P.g;
+    chol.SolveLowerInPlace(&work);
+    lambda = P.h;
+    lambda.noalias() -= Y.transpose() * work;
+    S_llt.solveInPlace(lambda);
+    g_merit = P.g;
+    g_merit.noalias() += At * lambda;
+    p = -g_merit;
+    chol.SolveInPlace(&p);
+    benchmark::DoNotOptimize(p.data());
+  }
+}
+
+void BM_KktCholesky(benchmark::State& state, int n) {
+  const int N = static_cast<int>(state.range(0));
+  const KktProblem P = RandomKktProblem(N, n, 0);
+  idto::PentaDiagonalCholesky chol(N, n);
+  Eigen::VectorXd p(N * n);
+  for (auto _ : state) {
+    chol.compute(P.H);
+    p = -P.g;
+    chol.SolveInPlace(&p);
+    benchmark::DoNotOptimize(p.data());
+  }
+}
+
+void RegisterKkt() {
+  struct Size {
+    const char* name;
+    int n, nu;
+  };
+  for (const Size size :
+       {Size{"acrobot", 4, 2}, Size{"ball_finger", 9, 3}, Size{"allegro", 23, 6}}) {
+    const std::string prefix = std::string("solver/kkt/") + size.name + "/";
+    const int n = size.n;
+    const int nu = size.nu;
+    auto* banded = benchmark::RegisterBenchmark(
+        (prefix + "banded").c_str(), [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1); });
+    auto* unrefined =
+        benchmark::RegisterBenchmark((prefix + "banded_unrefined").c_str(),
+                                     [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 0); });
+    auto* dense = benchmark::RegisterBenchmark(
+        (prefix + "dense").c_str(), [n, nu](benchmark::State& s) { BM_KktDense(s, n, nu); });
+    auto* chol = benchmark::RegisterBenchmark((prefix + "cholesky").c_str(),
+                                              [n](benchmark::State& s) { BM_KktCholesky(s, n); });
+    for (auto* b : {banded, unrefined, dense, chol}) {
+      b->ArgNames({"N"})->Unit(benchmark::kMicrosecond)->UseRealTime();
+      for (int N : {10, 20, 40, 80, 160, 320}) {
+        if (b == dense && n * N > 23 * 160) continue;
+        b->Args({N});
+      }
+    }
+  }
+}
+
+const bool kRegistered = (Register(), RegisterKkt(), true);
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "idto/core/parallel.hpp"
 #include "idto/core/types.hpp"
 // math
+#include "idto/math/penta_diagonal_matrix.hpp"
 #include "idto/math/quaternion.hpp"
 #include "idto/math/spatial.hpp"
 // multibody
@@ -35,7 +36,7 @@
 #include "idto/problem/problem_definition.hpp"
 #include "idto/problem/trajectory_state.hpp"
 #include "idto/problem/transcription.hpp"
-#include "idto/math/penta_diagonal_matrix.hpp"
+#include "idto/solver/banded_kkt.hpp"
 #include "idto/solver/solver_options.hpp"
 #include "idto/solver/solver_summary.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"

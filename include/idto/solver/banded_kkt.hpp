@@ -1,0 +1,186 @@
+#pragma once
+
+/// @file
+/// The equality-constrained Newton step of IDTO (paper §5.2.2) in time and memory linear in the
+/// horizon N: the KKT system
+///
+///     [H  Aᵀ] [p]   [−g]
+///     [A  0 ] [λ] = [−h]
+///
+/// with H block-pentadiagonal (PentaDiagonalMatrix, positive definite) and A the Jacobian of
+/// the constraints h_j (the unactuated rows of τ_j, j = 0..N−1), whose block row j only involves
+/// q_{j−1}, q_j, q_{j+1}. Interleaving the unknowns per step, x_r = (p_r, λ_r) with p_r the
+/// step of q_{r+1}, makes the KKT matrix block-pentadiagonal with blocks of size n + nu; it is
+/// factored by a block LDLᵀ whose pivot blocks are factored by a nested Schur complement (two
+/// Cholesky factorizations). docs/solver.md ("Lagrange multipliers in O(N)") explains why this
+/// never breaks down when H is positive definite and A has full row rank, and what the status
+/// says when it does not.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "idto/math/penta_diagonal_matrix.hpp"
+
+namespace idto {
+
+/// The constraint Jacobian A = ∂h/∂q of IDTO, stored by blocks: block row j (constraint h_j,
+/// nu rows, j = 0..N−1) has the nonzero blocks J(j, s) = ∂h_j/∂q_s (nu × n) for
+/// s ∈ {j−1, j, j+1} ∩ [1, N]. The decision variable q_s occupies the columns (s−1)·n .. s·n−1
+/// and h_j the rows j·nu .. (j+1)·nu−1 (the layout of TrajectoryOptimizer's dense route).
+class BlockConstraintJacobian {
+ public:
+  BlockConstraintJacobian() = default;
+  /// N block rows, n positions per step, nu constraints per step; all blocks zero.
+  BlockConstraintJacobian(int num_steps, int num_positions, int num_constraints);
+
+  /// Changes the sizes (allocates); all blocks zero. Throws InvalidArgument on negative sizes.
+  void Resize(int num_steps, int num_positions, int num_constraints);
+
+  int num_steps() const { return num_steps_; }
+  int num_positions() const { return num_positions_; }
+  int num_constraints() const { return num_constraints_; }
+  /// N nu.
+  int rows() const { return num_steps_ * num_constraints_; }
+  /// N n.
+  int cols() const { return num_steps_ * num_positions_; }
+
+  /// True when J(j, s) is a stored block: 0 <= j < N and s ∈ {j−1, j, j+1} ∩ [1, N].
+  bool HasBlock(int j, int s) const {
+    return j >= 0 && j < num_steps_ && s >= 1 && s <= num_steps_ && s >= j - 1 && s <= j + 1;
+  }
+  /// J(j, s) = ∂h_j/∂q_s (nu × n). Throws InvalidArgument when !HasBlock(j, s).
+  Eigen::MatrixXd& Block(int j, int s);
+  const Eigen::MatrixXd& Block(int j, int s) const;
+
+  void SetZero();
+  /// Ap = A p. p: N n; Ap: N nu (resized; no allocation when already sized).
+  void Multiply(const Eigen::VectorXd& p, Eigen::VectorXd* Ap) const;
+  /// Atl = Aᵀ λ. lambda: N nu; Atl: N n (resized; no allocation when already sized).
+  void MultiplyTranspose(const Eigen::VectorXd& lambda, Eigen::VectorXd* Atl) const;
+  /// y += Aᵀ λ. lambda: N nu; y: N n (e.g. g_merit = g + Aᵀλ). Never allocates.
+  void AddMultiplyTranspose(const Eigen::VectorXd& lambda, Eigen::VectorXd* y) const;
+  /// The dense N nu × N n matrix (tests, the dense oracle).
+  Eigen::MatrixXd MakeDense() const;
+
+ private:
+  int Index(int j, int s) const { return 3 * j + (s - j + 1); }
+
+  int num_steps_{0};
+  int num_positions_{0};
+  int num_constraints_{0};
+  // Three blocks per row j, for s = j−1, j, j+1 (out-of-range ones stay zero and unused).
+  std::vector<Eigen::MatrixXd> blocks_;
+};
+
+/// Outcome of BandedKktSolver::Factor. Building the message allocates; the status does not.
+struct KktStatus {
+  enum class Code {
+    kSuccess,
+    /// The Hessian part of pivot block `step` is not numerically positive definite: H itself is
+    /// not (the block names the decision variable q_{step+1}, row `row` of it).
+    kHessianNotPositiveDefinite,
+    /// The constraints h_0..h_step are linearly dependent (to the rank tolerance): row `row` of
+    /// h_step depends on the rows before it, e.g. an unactuated DoF that no q_s can influence.
+    kConstraintsRankDeficient,
+    kNotFactored,
+  };
+  Code code{Code::kNotFactored};
+  /// The time step j of the failing pivot block (h_j and the decision variable q_{j+1}); −1 on
+  /// success.
+  int step{-1};
+  /// The row within that block's Hessian part (0..n−1) or constraint part (0..nu−1); −1 on
+  /// success.
+  int row{-1};
+  /// The pivot found, relative to its diagonal entry before elimination (≤ 0 or tiny, or NaN).
+  double relative_pivot{0.0};
+
+  bool ok() const { return code == Code::kSuccess; }
+  /// A sentence naming the step and the block, e.g. "KKT factorization: the constraints are
+  /// rank-deficient at step j = 3 (row 1 of h_3 depends on the rows before it, relative pivot
+  /// 0); an unactuated DoF that no configuration can influence?".
+  std::string Message() const;
+};
+
+/// Factors and solves the IDTO KKT system in O(N (n + nu)³) time and O(N (n + nu)²) memory,
+/// with no heap allocation after construction (for a fixed size).
+///
+/// Usage: `BandedKktSolver kkt(N, n, nu); KktStatus s = kkt.Factor(H, A);
+/// if (s.ok()) kkt.Solve(g, h, &p, &lambda);` H and A must stay alive and unchanged until the
+/// last Solve when refinement_steps() > 0 (the residual of each refinement step reads them).
+class BandedKktSolver {
+ public:
+  BandedKktSolver() = default;
+  /// N steps, n positions per step (H's block size), nu constraints per step (nu may be 0).
+  BandedKktSolver(int num_steps, int num_positions, int num_constraints);
+
+  /// Changes the sizes (allocates). Throws InvalidArgument on negative sizes.
+  void Resize(int num_steps, int num_positions, int num_constraints);
+
+  int num_steps() const { return num_steps_; }
+  int num_positions() const { return n_; }
+  int num_constraints() const { return nu_; }
+
+  /// Steps of iterative refinement against the unfactored system in Solve (default 1: on
+  /// problems with entries spanning 1e-6..1e6 it takes the error from ~1e-9 to ~1e-12 for
+  /// banded products and one more forward/backward sweep; a second step gains nothing,
+  /// docs/solver.md).
+  int refinement_steps() const { return refinement_steps_; }
+  void set_refinement_steps(int steps) { refinement_steps_ = steps; }
+  /// A constraint pivot d (the squared diagonal of the Cholesky factor of −S_j, S_j the Schur
+  /// complement of the constraint part of pivot block j) with d <= tolerance · (−S_j)_ii is
+  /// rank deficiency (default 1e-14: the row makes an angle below ~1e-7 with the span of the
+  /// rows before it, in the metric of H⁻¹).
+  double rank_tolerance() const { return rank_tolerance_; }
+  void set_rank_tolerance(double tolerance) { rank_tolerance_ = tolerance; }
+
+  /// Factors [H Aᵀ; A 0]. H: N blocks of n × n, positive definite; A: N × N blocks of nu × n.
+  /// Throws InvalidArgument on sizes that differ from the solver's. Returns the status: success,
+  /// or the failing step and block and why; the factors are then unusable (never NaN results:
+  /// Solve on a failed factorization sets p and λ to zero).
+  KktStatus Factor(const PentaDiagonalMatrix& H, const BlockConstraintJacobian& A);
+  const KktStatus& status() const { return status_; }
+
+  /// The solution of H p + Aᵀ λ = −g, A p = −h. g: N n; h: N nu; p: N n; lambda: N nu (outputs
+  /// resized, no allocation when already sized). Requires status().ok(), else p = λ = 0.
+  void Solve(const Eigen::VectorXd& g, const Eigen::VectorXd& h, Eigen::VectorXd* p,
+             Eigen::VectorXd* lambda);
+
+  /// The residual of the unfactored system for a candidate (p, λ): rp = −g − H p − Aᵀλ (N n),
+  /// rl = −h − A p (N nu). Uses the H and A of the last Factor. Outputs resized.
+  void Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& h, const Eigen::VectorXd& p,
+                const Eigen::VectorXd& lambda, Eigen::VectorXd* rp, Eigen::VectorXd* rl);
+
+ private:
+  // Pivot block r: D_r = [P Qᵀ; Q R] (n + nu), P = Lp Lpᵀ, Y = Q Lp⁻ᵀ, Y Yᵀ − R = Lt Ltᵀ.
+  bool FactorPivot(int r, Eigen::MatrixXd* D);
+  // X = D_r⁻¹ X in place (X: (n + nu) × k, or a vector segment).
+  template <typename Derived>
+  void PivotSolveInPlace(int r, Eigen::MatrixBase<Derived>& X) const;
+  void AssembleOffDiagonal(int r, int c, Eigen::MatrixXd* K) const;
+  // Solves the interleaved system in place in z_ (N (n + nu)).
+  void SolveInterleavedInPlace();
+  void SolveOnce(const Eigen::VectorXd& g, const Eigen::VectorXd& h, Eigen::VectorXd* p,
+                 Eigen::VectorXd* lambda);
+
+  int num_steps_{0};
+  int n_{0};
+  int nu_{0};
+  int m_{0};  // n + nu
+  int refinement_steps_{1};
+  double rank_tolerance_{1e-14};
+  KktStatus status_;
+  const PentaDiagonalMatrix* H_{nullptr};
+  const BlockConstraintJacobian* A_{nullptr};
+
+  // Lt1_[r] = L(r, r−1)ᵀ and Lt2_[r] = L(r, r−2)ᵀ (m × m), L the unit block lower factor.
+  std::vector<Eigen::MatrixXd> Lt1_, Lt2_;
+  // Pivot factors: Lp_[r] (n × n lower), Y_[r] (nu × n), Ls_[r] (nu × nu lower).
+  std::vector<Eigen::MatrixXd> Lp_, Y_, Ls_;
+  // Work: K(r, r−2), K(r, r−1) − …, its value for the previous row, the pivot block.
+  Eigen::MatrixXd K2_, K1_, K1_prev_, D_;
+  Eigen::VectorXd z_, rp_, rl_, dp_, dl_, work_n_, work_nu_;
+};
+
+}  // namespace idto

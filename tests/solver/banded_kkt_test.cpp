@@ -1,0 +1,303 @@
+// The banded KKT solve against the dense formula of the paper (eq. lagrange_multiplier),
+// evaluated in long double as the oracle, on well- and ill-conditioned random problems; the
+// failure statuses; no allocation after construction.
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <tuple>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Eigenvalues>
+
+#include "idto/solver/banded_kkt.hpp"
+#include "support/allocation_counter.hpp"
+#include "support/eigen_matchers.hpp"
+#include "support/random.hpp"
+
+namespace idto {
+namespace {
+
+using MatrixXl = Eigen::Matrix<long double, Eigen::Dynamic, Eigen::Dynamic>;
+using VectorXl = Eigen::Matrix<long double, Eigen::Dynamic, 1>;
+
+struct KktProblem {
+  PentaDiagonalMatrix H;
+  BlockConstraintJacobian A;
+  Eigen::VectorXd g, h;
+};
+
+// A random problem. H = L diag(d) Lᵀ (L block-banded, d log-uniform in [1, condition]) is
+// positive definite and pentadiagonal; A has random blocks. With spread > 1 the variables and
+// the constraints are rescaled by log-uniform factors in [1/spread, spread]: entries of H and
+// A then span spread² up and down (1e-6..1e6 for spread = 1e3).
+KktProblem RandomProblem(int N, int n, int nu, double condition, double spread, test::Random* rng) {
+  const int size = N * n;
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(size, size);
+  for (int k = 0; k < N; ++k) {
+    for (int j = std::max(0, k - 2); j <= k; ++j) {
+      L.block(k * n, j * n, n, n) = rng->Matrix(n, n, -0.3, 0.3);
+    }
+    L.block(k * n, k * n, n, n).diagonal().array() += 2.0;
+  }
+  Eigen::VectorXd d(size);
+  for (int i = 0; i < size; ++i) d(i) = std::pow(condition, rng->Uniform(0.0, 1.0));
+  Eigen::VectorXd sq(size), sl(N * nu);
+  for (int i = 0; i < size; ++i) sq(i) = std::pow(spread, rng->Uniform(-1.0, 1.0));
+  for (int i = 0; i < N * nu; ++i) sl(i) = std::pow(spread, rng->Uniform(-1.0, 1.0));
+  Eigen::MatrixXd Hd = sq.asDiagonal() * (L * d.asDiagonal() * L.transpose()) * sq.asDiagonal();
+  KktProblem P{PentaDiagonalMatrix(N, n), BlockConstraintJacobian(N, n, nu), {}, {}};
+  for (int k = 0; k < N; ++k) {
+    P.H.C(k) = 0.5 * (Hd.block(k * n, k * n, n, n) + Hd.block(k * n, k * n, n, n).transpose());
+    if (k >= 1) P.H.B(k) = Hd.block(k * n, (k - 1) * n, n, n);
+    if (k >= 2) P.H.A(k) = Hd.block(k * n, (k - 2) * n, n, n);
+  }
+  for (int j = 0; j < N; ++j) {
+    for (int s = j - 1; s <= j + 1; ++s) {
+      if (!P.A.HasBlock(j, s)) continue;
+      P.A.Block(j, s) = sl.segment(j * nu, nu).asDiagonal() * rng->Matrix(nu, n) *
+                        sq.segment((s - 1) * n, n).asDiagonal();
+    }
+  }
+  P.g = sq.asDiagonal() * rng->Vector(size);
+  P.h = sl.asDiagonal() * rng->Vector(N * nu);
+  return P;
+}
+
+// The dense formula λ = (A H⁻¹ Aᵀ)⁻¹ (h − A H⁻¹ g), p = −H⁻¹ (g + Aᵀ λ) in long double.
+void DenseOracle(const KktProblem& P, Eigen::VectorXd* p, Eigen::VectorXd* lambda) {
+  const MatrixXl H = P.H.MakeDense().cast<long double>();
+  const MatrixXl A = P.A.MakeDense().cast<long double>();
+  const VectorXl g = P.g.cast<long double>();
+  const VectorXl h = P.h.cast<long double>();
+  const Eigen::LLT<MatrixXl> H_llt(H);
+  VectorXl l = VectorXl::Zero(A.rows());
+  if (A.rows() > 0) {
+    const MatrixXl HinvAt = H_llt.solve(A.transpose());
+    const MatrixXl S = A * HinvAt;
+    l = Eigen::LLT<MatrixXl>(S).solve(VectorXl(h - HinvAt.transpose() * g));
+  }
+  *p = (-H_llt.solve(VectorXl(g + A.transpose() * l))).cast<double>();
+  *lambda = l.cast<double>();
+}
+
+// Today's dense route in double (the minimizer's CalcConstraints/S_llt_ path), for comparison.
+void DenseDouble(const KktProblem& P, Eigen::VectorXd* p, Eigen::VectorXd* lambda) {
+  const Eigen::MatrixXd H = P.H.MakeDense();
+  const Eigen::MatrixXd A = P.A.MakeDense();
+  const Eigen::LLT<Eigen::MatrixXd> H_llt(H);
+  *lambda = Eigen::VectorXd::Zero(A.rows());
+  if (A.rows() > 0) {
+    const Eigen::MatrixXd HinvAt = H_llt.solve(A.transpose());
+    const Eigen::MatrixXd S = A * HinvAt;
+    *lambda = S.llt().solve(Eigen::VectorXd(P.h - HinvAt.transpose() * P.g));
+  }
+  *p = -H_llt.solve(Eigen::VectorXd(P.g + A.transpose() * *lambda));
+}
+
+double RelativeError(const Eigen::VectorXd& x, const Eigen::VectorXd& reference) {
+  if (reference.size() == 0) return 0.0;
+  return (x - reference).norm() / std::max(reference.norm(), 1e-300);
+}
+
+// Relative errors of p and λ for one problem and a number of refinement steps.
+std::pair<double, double> BandedErrors(const KktProblem& P, int refinement_steps) {
+  BandedKktSolver kkt(P.A.num_steps(), P.A.num_positions(), P.A.num_constraints());
+  kkt.set_refinement_steps(refinement_steps);
+  const KktStatus status = kkt.Factor(P.H, P.A);
+  EXPECT_TRUE(status.ok()) << status.Message();
+  Eigen::VectorXd p, lambda, p_ref, lambda_ref;
+  kkt.Solve(P.g, P.h, &p, &lambda);
+  DenseOracle(P, &p_ref, &lambda_ref);
+  return {RelativeError(p, p_ref), RelativeError(lambda, lambda_ref)};
+}
+
+const std::vector<std::tuple<int, int, int>> kSizes = {
+    {1, 3, 1}, {2, 3, 2},  {3, 4, 2},  {1, 4, 0},  {2, 4, 0}, {3, 4, 0},
+    {3, 3, 3}, {10, 4, 2}, {20, 9, 3}, {7, 23, 6}, {40, 2, 1}};
+
+TEST(BlockConstraintJacobian, ProductsAgreeWithDense) {
+  test::Random rng(1);
+  const KktProblem P = RandomProblem(5, 3, 2, 10.0, 1.0, &rng);
+  const Eigen::MatrixXd A = P.A.MakeDense();
+  ASSERT_EQ(A.rows(), 10);
+  ASSERT_EQ(A.cols(), 15);
+  // Only s in {j−1, j, j+1} ∩ [1, N]: h_0 involves q_1 only, h_4 involves q_3, q_4, q_5.
+  EXPECT_EQ(A.block(0, 3, 2, 12).norm(), 0.0);
+  EXPECT_EQ(A.block(8, 0, 2, 6).norm(), 0.0);
+  const Eigen::VectorXd p = rng.Vector(15);
+  const Eigen::VectorXd l = rng.Vector(10);
+  Eigen::VectorXd Ap, Atl;
+  P.A.Multiply(p, &Ap);
+  P.A.MultiplyTranspose(l, &Atl);
+  EXPECT_EIGEN_NEAR_REL(Ap, Eigen::VectorXd(A * p), 1e-14);
+  EXPECT_EIGEN_NEAR_REL(Atl, Eigen::VectorXd(A.transpose() * l), 1e-14);
+  EXPECT_FALSE(P.A.HasBlock(0, 0));
+  EXPECT_FALSE(P.A.HasBlock(4, 6));
+  EXPECT_THROW(P.A.Block(0, 0), std::invalid_argument);
+  EXPECT_THROW(P.A.Block(2, 4 + 1), std::invalid_argument);
+  EXPECT_THROW(P.A.Multiply(l, &Ap), std::invalid_argument);
+}
+
+TEST(BandedKkt, MatchesDenseFormulaWellConditioned) {
+  test::Random rng(2);
+  for (auto [N, n, nu] : kSizes) {
+    SCOPED_TRACE(::testing::Message() << "N=" << N << " n=" << n << " nu=" << nu);
+    const KktProblem P = RandomProblem(N, n, nu, 10.0, 1.0, &rng);
+    const auto [ep, el] = BandedErrors(P, 0);
+    EXPECT_LT(ep, 1e-12);
+    EXPECT_LT(el, 1e-12);
+  }
+}
+
+// Entries of H, A, g and h spanning 1e-6..1e6 and H with condition number up to 1e6 before the
+// scaling. Prints the errors without and with refinement (docs/solver.md quotes them).
+TEST(BandedKkt, MatchesDenseFormulaIllConditioned) {
+  test::Random rng(3);
+  double worst[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+  double worst_dense[2] = {0, 0};
+  for (double condition : {1e3, 1e6}) {
+    for (auto [N, n, nu] : kSizes) {
+      SCOPED_TRACE(::testing::Message()
+                   << "cond=" << condition << " N=" << N << " n=" << n << " nu=" << nu);
+      const KktProblem P = RandomProblem(N, n, nu, condition, 1e3, &rng);
+      for (int steps = 0; steps <= 2; ++steps) {
+        const auto [ep, el] = BandedErrors(P, steps);
+        EXPECT_LT(ep, 1e-9) << "refinement steps " << steps;
+        EXPECT_LT(el, 1e-9) << "refinement steps " << steps;
+        worst[steps][0] = std::max(worst[steps][0], ep);
+        worst[steps][1] = std::max(worst[steps][1], el);
+      }
+      Eigen::VectorXd p, lambda, p_ref, lambda_ref;
+      DenseDouble(P, &p, &lambda);
+      DenseOracle(P, &p_ref, &lambda_ref);
+      worst_dense[0] = std::max(worst_dense[0], RelativeError(p, p_ref));
+      worst_dense[1] = std::max(worst_dense[1], RelativeError(lambda, lambda_ref));
+    }
+  }
+  for (int steps = 0; steps <= 2; ++steps) {
+    std::cout << "ill-conditioned, refinement steps " << steps << ": worst relative error p "
+              << worst[steps][0] << ", lambda " << worst[steps][1] << "\n";
+  }
+  std::cout << "ill-conditioned, dense formula in double: worst relative error p " << worst_dense[0]
+            << ", lambda " << worst_dense[1] << "\n";
+}
+
+TEST(BandedKkt, SatisfiesTheSystemAndTheMeritGradient) {
+  test::Random rng(4);
+  const KktProblem P = RandomProblem(12, 5, 2, 100.0, 1.0, &rng);
+  BandedKktSolver kkt(12, 5, 2);
+  ASSERT_TRUE(kkt.Factor(P.H, P.A).ok());
+  Eigen::VectorXd p, lambda, rp, rl;
+  kkt.Solve(P.g, P.h, &p, &lambda);
+  kkt.Residual(P.g, P.h, p, lambda, &rp, &rl);
+  EXPECT_LT(rp.norm(), 1e-12 * P.g.norm());
+  EXPECT_LT(rl.norm(), 1e-12 * P.h.norm());
+  // The Newton step of the merit: p = −H⁻¹ (g + Aᵀλ).
+  Eigen::VectorXd g_merit = P.g;
+  P.A.AddMultiplyTranspose(lambda, &g_merit);
+  const Eigen::VectorXd p_merit = -P.H.MakeDense().llt().solve(g_merit);
+  EXPECT_EIGEN_NEAR_REL(p, p_merit, 1e-11);
+}
+
+TEST(BandedKkt, ZeroConstraintRowIsRankDeficiencyAtItsStep) {
+  test::Random rng(5);
+  KktProblem P = RandomProblem(6, 4, 2, 10.0, 1.0, &rng);
+  // Row 1 of h_3 influenced by no configuration (an unactuated DoF with no inertia coupling).
+  for (int s = 2; s <= 4; ++s) P.A.Block(3, s).row(1).setZero();
+  BandedKktSolver kkt(6, 4, 2);
+  const KktStatus status = kkt.Factor(P.H, P.A);
+  EXPECT_EQ(status.code, KktStatus::Code::kConstraintsRankDeficient);
+  EXPECT_EQ(status.step, 3);
+  EXPECT_EQ(status.row, 1);
+  EXPECT_NE(status.Message().find("step j = 3"), std::string::npos) << status.Message();
+  EXPECT_NE(status.Message().find("row 1 of h_3"), std::string::npos) << status.Message();
+  Eigen::VectorXd p, lambda;
+  kkt.Solve(P.g, P.h, &p, &lambda);
+  EXPECT_TRUE(p.allFinite());
+  EXPECT_TRUE(lambda.allFinite());
+  EXPECT_EQ(p.norm(), 0.0);
+}
+
+TEST(BandedKkt, DependentRowsAcrossStepsAreFoundAtTheLaterStep) {
+  test::Random rng(6);
+  KktProblem P = RandomProblem(6, 4, 2, 10.0, 1.0, &rng);
+  // Row 0 of h_3 (q_2, q_3, q_4) equal to 2 × row 0 of h_2 (q_1, q_2, q_3): both without q_1
+  // and q_4.
+  P.A.Block(2, 1).row(0).setZero();
+  P.A.Block(3, 4).row(0).setZero();
+  P.A.Block(3, 2).row(0) = 2.0 * P.A.Block(2, 2).row(0);
+  P.A.Block(3, 3).row(0) = 2.0 * P.A.Block(2, 3).row(0);
+  BandedKktSolver kkt(6, 4, 2);
+  const KktStatus status = kkt.Factor(P.H, P.A);
+  EXPECT_EQ(status.code, KktStatus::Code::kConstraintsRankDeficient) << status.Message();
+  EXPECT_EQ(status.step, 3);
+  EXPECT_EQ(status.row, 0);
+  // The dense route's A H⁻¹ Aᵀ is singular too (to round-off).
+  const Eigen::MatrixXd A = P.A.MakeDense();
+  const Eigen::MatrixXd S = A * P.H.MakeDense().llt().solve(A.transpose());
+  const Eigen::VectorXd eig = S.selfadjointView<Eigen::Lower>().eigenvalues();
+  EXPECT_LT(eig.minCoeff(), 1e-13 * eig.maxCoeff());
+}
+
+TEST(BandedKkt, IndefiniteOrNanHessianIsAStatusNeverNan) {
+  test::Random rng(7);
+  KktProblem P = RandomProblem(5, 3, 1, 10.0, 1.0, &rng);
+  P.H.C(2)(1, 1) = -50.0;
+  BandedKktSolver kkt(5, 3, 1);
+  KktStatus status = kkt.Factor(P.H, P.A);
+  EXPECT_EQ(status.code, KktStatus::Code::kHessianNotPositiveDefinite);
+  EXPECT_EQ(status.step, 2);
+  EXPECT_NE(status.Message().find("q_3"), std::string::npos) << status.Message();
+  P = RandomProblem(5, 3, 1, 10.0, 1.0, &rng);
+  P.H.B(3)(0, 0) = std::nan("");
+  status = kkt.Factor(P.H, P.A);
+  EXPECT_FALSE(status.ok());
+  EXPECT_EQ(status.step, 3);
+  Eigen::VectorXd p, lambda;
+  kkt.Solve(P.g, P.h, &p, &lambda);
+  EXPECT_TRUE(p.allFinite() && lambda.allFinite());
+}
+
+TEST(BandedKkt, WrongSizesThrow) {
+  test::Random rng(8);
+  const KktProblem P = RandomProblem(4, 3, 1, 10.0, 1.0, &rng);
+  BandedKktSolver kkt(4, 3, 2);
+  EXPECT_THROW(kkt.Factor(P.H, P.A), std::invalid_argument);
+  BandedKktSolver ok(4, 3, 1);
+  ASSERT_TRUE(ok.Factor(P.H, P.A).ok());
+  Eigen::VectorXd p, lambda;
+  EXPECT_THROW(ok.Solve(P.g, Eigen::VectorXd::Zero(3), &p, &lambda), std::invalid_argument);
+  EXPECT_THROW(BandedKktSolver(-1, 3, 1), std::invalid_argument);
+}
+
+TEST(BandedKkt, NoAllocationAfterConstruction) {
+  if (!test::AllocationCountingAvailable()) GTEST_SKIP() << "malloc is owned by a sanitizer";
+  {
+    test::ScopedAllocationCounter counter;
+    Eigen::VectorXd v(1000);
+    EXPECT_GT(counter.count(), 0);  // the counter counts
+  }
+  test::Random rng(9);
+  for (auto [N, n, nu] : {std::tuple{30, 4, 2}, std::tuple{10, 23, 6}, std::tuple{5, 9, 0}}) {
+    SCOPED_TRACE(::testing::Message() << "N=" << N << " n=" << n << " nu=" << nu);
+    const KktProblem P = RandomProblem(N, n, nu, 100.0, 1.0, &rng);
+    BandedKktSolver kkt(N, n, nu);
+    kkt.set_refinement_steps(1);
+    Eigen::VectorXd p(N * n), lambda(N * nu), g_merit = P.g;
+    test::ScopedAllocationCounter counter;
+    for (int i = 0; i < 2; ++i) {
+      ASSERT_TRUE(kkt.Factor(P.H, P.A).ok());
+      kkt.Solve(P.g, P.h, &p, &lambda);
+      g_merit = P.g;
+      P.A.AddMultiplyTranspose(lambda, &g_merit);
+    }
+    EXPECT_EQ(counter.count(), 0);
+  }
+}
+
+}  // namespace
+}  // namespace idto
