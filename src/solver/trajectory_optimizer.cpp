@@ -2,11 +2,13 @@
 // iteration: derivatives, gradient and Hessian (the transcription), scaling, factorization with
 // a Levenberg-Marquardt shift when needed, multipliers (Lagrange method), Newton and Cauchy
 // points, then dogleg steps with a shrinking radius until one is accepted; named convergence
-// tests after each step. The trust-region strategy lives in trust_region.hpp, the multipliers
-// in dense_multipliers.hpp.
+// tests after each step. The trust-region strategy lives in trust_region.hpp; with Lagrange
+// multipliers the Newton step and the multipliers come from one banded KKT solve
+// (idto/solver/banded_kkt.hpp), linear in N.
 
 #include "idto/solver/trajectory_optimizer.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -18,7 +20,7 @@
 #include "idto/math/penta_diagonal_matrix.hpp"
 #include "idto/multibody/algorithms/kinematics.hpp"
 #include "idto/problem/transcription.hpp"
-#include "solver/dense_multipliers.hpp"
+#include "idto/solver/banded_kkt.hpp"
 #include "solver/trust_region.hpp"
 
 namespace idto {
@@ -69,9 +71,10 @@ class TrajectoryOptimizer::Impl {
     transcription_.SetNumThreads(options_.num_threads);
     transcription_.SetDerivativeMethod(options_.derivative_method,
                                        options_.finite_difference_step);
-    if (lagrange()) {
-      multipliers_.Resize(N_, nq_, nu_);
-      if (h_.size() != N_ * nu_) h_ = lambda_ = Eigen::VectorXd::Zero(N_ * nu_);
+    if (lagrange() && h_.size() != N_ * nu_) {
+      h_ = lambda_ = Eigen::VectorXd::Zero(N_ * nu_);
+      A_.Resize(N_, nq_, nu_);
+      kkt_.Resize(N_, nq_, nu_);
     }
   }
 
@@ -135,22 +138,34 @@ class TrajectoryOptimizer::Impl {
     g_merit_ = g_;
     merit_ = x_.cost;
     if (lagrange()) {
-      std::string why;
-      transcription_.CalcConstraints(x_, &h_);
-      if (!multipliers_.Compute(transcription_, derivatives_, chol_, g_, h_, &lambda_, &g_merit_,
-                                &why)) {
-        return Fail(summary, why);
-      }
-      merit_ = x_.cost + h_.dot(lambda_);
+      if (!SolveKkt(summary)) return false;
       s->time_multipliers = Seconds(t3, Clock::now());
+    } else {
+      p_newton_ = -g_merit_;
+      chol_.SolveInPlace(&p_newton_);
     }
-    p_newton_ = -g_merit_;
-    chol_.SolveInPlace(&p_newton_);
     internal::CalcCauchyPoint(H_, g_merit_, D_, &scratch_a_, &scratch_b_, &p_cauchy_);
     if (!AllFinite(p_newton_) || !AllFinite(p_cauchy_)) {
       return Fail(summary, "the Newton or Cauchy step is not finite (non-finite derivatives); "
                            "last good iterate kept");
     }
+    return true;
+  }
+
+  // The constrained Newton step: [H A^T; A 0][p; lambda] = -[g; h] (O(N)), then the merit
+  // L + h^T lambda and its gradient g + A^T lambda.
+  bool SolveKkt(SolverSummary* summary) {
+    transcription_.CalcConstraints(x_, &h_);
+    for (int j = 0; j < N_; ++j) {
+      for (int s = std::max(j - 1, 1); s <= std::min(j + 1, N_); ++s) {
+        transcription_.ConstraintBlock(derivatives_, j, s, A_.Block(j, s));
+      }
+    }
+    const KktStatus& status = kkt_.Factor(H_, A_);
+    if (!status.ok()) return Fail(summary, status.Message() + "; last good iterate kept");
+    kkt_.Solve(g_, h_, &p_newton_, &lambda_);
+    A_.AddMultiplyTranspose(lambda_, &g_merit_);
+    merit_ = x_.cost + h_.dot(lambda_);
     return true;
   }
 
@@ -329,7 +344,8 @@ class TrajectoryOptimizer::Impl {
   TrajectoryDerivatives derivatives_;  // at x_
   PentaDiagonalMatrix H_;              // Gauss-Newton Hessian at x_ (with any LM shift)
   PentaDiagonalCholesky chol_;         // its factor
-  internal::DenseMultipliers multipliers_;
+  BlockConstraintJacobian A_;  // dh/dq at x_ by blocks (Lagrange method)
+  BandedKktSolver kkt_;        // its KKT factorization with H_
   // N nq each: gradient of L; of the merit L + h^T lambda; scaling D; the step; Newton and
   // Cauchy points; scratch of the trust-region functions (no fixed meaning between calls).
   Eigen::VectorXd g_, g_merit_, D_, p_, p_newton_, p_cauchy_, scratch_a_, scratch_b_;
