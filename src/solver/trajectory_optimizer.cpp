@@ -9,9 +9,9 @@
 
 #include <Eigen/Cholesky>
 
+#include "core/parallel.hpp"
 #include "idto/contact/contact_engine.hpp"
 #include "idto/core/errors.hpp"
-#include "idto/core/parallel.hpp"
 #include "idto/math/quaternion.hpp"
 #include "idto/multibody/algorithms/dynamics.hpp"
 #include "idto/multibody/algorithms/kinematics.hpp"
