@@ -4,7 +4,8 @@
 // core, as another program on the machine would. It can be paused (SIGSTOP) and resumed
 // (SIGCONT) so quiet and contended measurements alternate within one run, and it is killed
 // (SIGKILL, then reaped) when the object is destroyed. The child also dies with its parent
-// (PR_SET_PDEATHSIG), so an interrupted benchmark leaves no spinning process behind.
+// (PR_SET_PDEATHSIG), so an interrupted benchmark leaves no spinning process behind. It runs in a
+// session of its own, so the scheduler treats it as another program, not as part of the benchmark.
 
 #include <csignal>
 #include <stdexcept>
@@ -59,6 +60,9 @@ class BusyCompetitor {
   [[noreturn]] static void Spin(pid_t parent) {
     prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (getppid() != parent) _exit(0);  // the parent died before prctl
+    // Its own session: with the kernel's session autogroups (sched_autogroup_enabled) a child in
+    // the benchmark's session would only compete inside the benchmark's share of the CPU.
+    setsid();
     volatile unsigned long counter = 0;
     for (;;) counter = counter + 1;
   }
