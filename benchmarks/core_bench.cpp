@@ -2,7 +2,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "idto/core/parallel.hpp"
+#include "core/parallel.hpp"
 
 namespace {
 

@@ -12,8 +12,8 @@ find_library(IDTO_TINYXML_LIBRARY NAMES tinyxml REQUIRED)
 # Private to the library: they never appear in public headers.
 set(IDTO_PRIVATE_DEPS ${urdfdom_LIBRARIES} ${IDTO_TINYXML_LIBRARY} fcl yaml-cpp)
 
-find_package(OpenMP COMPONENTS CXX)
-set(IDTO_OPENMP_FOUND ${OpenMP_CXX_FOUND})
+# std::thread for the library's own thread pool (no OpenMP).
+find_package(Threads REQUIRED)
 
 # MuJoCo: an optional oracle (tests), peer (benchmarks) and plant (MPC).
 set(IDTO_HAVE_MUJOCO OFF)
@@ -37,7 +37,7 @@ if(NOT IDTO_WITH_MUJOCO STREQUAL "OFF")
     set_target_properties(mujoco::mujoco PROPERTIES INTERFACE_INCLUDE_DIRECTORIES "${_mj_inc_ok}")
   endif()
 endif()
-message(STATUS "idto: MuJoCo ${IDTO_HAVE_MUJOCO}, OpenMP ${IDTO_OPENMP_FOUND}")
+message(STATUS "idto: MuJoCo ${IDTO_HAVE_MUJOCO}")
 
 if(IDTO_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -7,7 +7,6 @@
 
 // core
 #include "idto/core/errors.hpp"
-#include "idto/core/parallel.hpp"
 #include "idto/core/types.hpp"
 // math
 #include "idto/math/penta_diagonal_matrix.hpp"

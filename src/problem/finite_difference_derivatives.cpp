@@ -7,7 +7,7 @@
 #include <limits>
 #include <memory>
 
-#include "idto/core/parallel.hpp"
+#include "core/parallel.hpp"
 #include "idto/multibody/algorithms/discrete_velocity.hpp"
 #include "idto/multibody/algorithms/dynamics.hpp"
 #include "idto/problem/transcription.hpp"

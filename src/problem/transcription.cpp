@@ -1,3 +1,4 @@
+#include "core/parallel.hpp"
 #include "idto/problem/transcription.hpp"
 
 #include <string>
@@ -5,7 +6,6 @@
 
 #include "idto/contact/inverse_dynamics_with_contact.hpp"
 #include "idto/core/errors.hpp"
-#include "idto/core/parallel.hpp"
 #include "idto/multibody/algorithms/discrete_velocity.hpp"
 #include "problem/transcription_workspace.hpp"
 

@@ -3,7 +3,12 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/parallel.hpp"
+
 namespace idto {
+
+static_assert(SolverOptions::kMaxNumThreads == kMaxParallelThreads,
+              "SolverOptions::kMaxNumThreads is ParallelFor's limit");
 
 std::string ConstraintMethodName(ConstraintMethod method) {
   switch (method) {
@@ -25,7 +30,9 @@ bool SolverOptions::IsValid(std::string* why) const {
     return false;
   };
   if (max_iterations < 0) return fail("max_iterations", max_iterations, "a number >= 0");
-  if (num_threads < 1) return fail("num_threads", num_threads, "a number >= 1");
+  if (num_threads < 1 || num_threads > kMaxNumThreads) {
+    return fail("num_threads", num_threads, "in [1, 256] (SolverOptions::kMaxNumThreads)");
+  }
   if (!(std::isfinite(penalty_weight) && penalty_weight >= 0)) {
     return fail("penalty_weight", penalty_weight, "a finite number >= 0");
   }

@@ -5,7 +5,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
-#include "idto/core/parallel.hpp"
 #include "support/eigen_matchers.hpp"
 #include "support/finite_difference.hpp"
 #include "support/random.hpp"
@@ -101,16 +100,6 @@ TEST(TestSupport, RandomIsSeeded) {
   test::Random a(7), b(7);
   EXPECT_EQ(a.Vector(5), b.Vector(5));
   EXPECT_NEAR(a.Quaternion().norm(), 1.0, 1e-15);
-}
-
-TEST(Parallel, ParallelForVisitsEveryIndexOnce) {
-  std::vector<int> hits(1000, 0);
-  ParallelFor(0, 1000, 2, [&](int i, int thread) {
-    EXPECT_GE(thread, 0);
-    EXPECT_LT(thread, 2);
-    hits[i] += 1;
-  });
-  for (int h : hits) EXPECT_EQ(h, 1);
 }
 
 }  // namespace

@@ -390,6 +390,10 @@ TEST(Solver, InvalidInputsThrowClearMessages) {
   o.num_threads = 0;
   EXPECT_THAT([&] { TrajectoryOptimizer(model, p, o); },
               ::testing::ThrowsMessage<InvalidArgument>(HasSubstr("num_threads is 0")));
+  o.num_threads = 100000;  // above SolverOptions::kMaxNumThreads: an error, not a crash
+  EXPECT_THAT([&] { TrajectoryOptimizer(model, p, o); },
+              ::testing::ThrowsMessage<InvalidArgument>(
+                  HasSubstr("num_threads is 100000; expected in [1, 256]")));
   std::string why;
   o = SolverOptions{};
   o.initial_trust_radius = -1;

@@ -29,7 +29,10 @@ enum class ScalingMethod {
 /// Solver options with documented defaults. Check with IsValid().
 struct SolverOptions {
   int max_iterations{100};  ///< iterations (each: derivatives, factorization, trial)
-  int num_threads{1};       ///< threads for per-step work (results do not depend on it)
+  /// Largest accepted num_threads (a higher count is an error, not a silent cap).
+  static constexpr int kMaxNumThreads = 256;
+  /// Threads for per-step work, in [1, kMaxNumThreads] (results do not depend on it).
+  int num_threads{1};
   ConstraintMethod constraint_method{ConstraintMethod::kPenalty};
   /// kPenalty: when > 0, the weight w of w/2 |h|^2, placed on R's unactuated entries (paper
   /// §5.2.1); 0 keeps R's unactuated entries as given (the paper's tables set them in R).

@@ -1,0 +1,170 @@
+// ParallelFor on the library's thread pool (src/core/parallel.hpp): coverage, thread identities,
+// exceptions, concurrent and nested callers, and a phase that must not wait for late workers.
+
+#include "core/parallel.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+namespace idto {
+namespace {
+
+using ::testing::HasSubstr;
+using Clock = std::chrono::steady_clock;
+
+// Busy work of about `us` microseconds (keeps an item running while others start).
+void SpinFor(int us) {
+  const auto until = Clock::now() + std::chrono::microseconds(us);
+  while (Clock::now() < until) {
+  }
+}
+
+// Runs ParallelFor(begin, end, threads) and checks that every index ran exactly once, with a
+// thread identity in [0, threads) that no other running item held at the same time.
+void ExpectEachIndexOnce(int begin, int end, int threads, int item_us = 0) {
+  const int n = std::max(0, end - begin);
+  std::unique_ptr<std::atomic<int>[]> hits(new std::atomic<int>[static_cast<size_t>(n)]);
+  std::unique_ptr<std::atomic<int>[]> in_use(new std::atomic<int>[static_cast<size_t>(threads)]);
+  for (int i = 0; i < n; ++i) hits[i] = 0;
+  for (int t = 0; t < threads; ++t) in_use[t] = 0;
+  std::atomic<int> bad_thread{0}, shared_thread{0};
+  ParallelFor(begin, end, threads, [&](int i, int thread) {
+    if (thread < 0 || thread >= threads) {
+      ++bad_thread;
+      return;
+    }
+    if (in_use[thread].exchange(1) != 0) ++shared_thread;
+    hits[i - begin].fetch_add(1);
+    if (item_us > 0) SpinFor(item_us);
+    in_use[thread].store(0);
+  });
+  const std::string where = "[" + std::to_string(begin) + ", " + std::to_string(end) +
+                            "), threads " + std::to_string(threads);
+  EXPECT_EQ(bad_thread.load(), 0) << where;
+  EXPECT_EQ(shared_thread.load(), 0) << where;
+  int wrong = 0;
+  for (int i = 0; i < n; ++i) wrong += hits[i].load() != 1;
+  EXPECT_EQ(wrong, 0) << where;
+}
+
+TEST(ParallelFor, VisitsEveryIndexOnceForManyRangesAndThreadCounts) {
+  for (int threads : {1, 2, 3, 4, 8}) {
+    for (int begin : {-3, 0, 5}) {
+      for (int n : {-2, 0, 1, 2, 3, 7, 40, 129, 1000, 20000}) {
+        ExpectEachIndexOnce(begin, begin + n, threads);
+      }
+    }
+  }
+}
+
+TEST(ParallelFor, ThreadIdsAreUniqueAmongConcurrentItems) {
+  // Items long enough (20 µs) that the participants overlap.
+  for (int threads : {2, 3, 4}) ExpectEachIndexOnce(0, 300, threads, 20);
+}
+
+TEST(ParallelFor, RejectsThreadCountsOutsideTheDocumentedRange) {
+  for (int threads : {0, -1, kMaxParallelThreads + 1, 100000}) {
+    EXPECT_THAT([&] { ParallelFor(0, 10, threads, [](int, int) {}); },
+                ::testing::ThrowsMessage<InvalidArgument>(
+                    HasSubstr("num_threads is " + std::to_string(threads))));
+  }
+  EXPECT_NO_THROW(ParallelFor(0, 10, kMaxParallelThreads, [](int, int) {}));
+}
+
+// Items 17 and 33 throw; the exception of the smallest index reaches the caller, every index
+// below it ran, and the pool keeps working.
+TEST(ParallelFor, RethrowsTheExceptionOfTheSmallestIndexOnTheCaller) {
+  for (int threads : {1, 2, 4}) {
+    for (int repeat = 0; repeat < 20; ++repeat) {
+      std::vector<std::atomic<int>> ran(100);
+      std::string message;
+      try {
+        ParallelFor(0, 100, threads, [&](int i, int) {
+          ran[static_cast<size_t>(i)] = 1;
+          if (i == 17 || i == 33) throw std::runtime_error("item " + std::to_string(i));
+          SpinFor(2);
+        });
+      } catch (const std::runtime_error& e) {
+        message = e.what();
+      }
+      EXPECT_EQ(message, "item 17") << "threads " << threads;
+      for (int i = 0; i <= 17; ++i) EXPECT_EQ(ran[static_cast<size_t>(i)].load(), 1) << i;
+    }
+  }
+  // Any type, from the caller's or a worker's item.
+  EXPECT_THROW(ParallelFor(0, 50, 2,
+                           [](int i, int) {
+                             if (i == 49) throw 42;
+                           }),
+               int);
+  ExpectEachIndexOnce(0, 1000, 2);
+}
+
+TEST(ParallelFor, NestedCallsRunSeriallyWithoutDeadlock) {
+  std::vector<std::atomic<int>> hits(40 * 30);
+  ParallelFor(0, 40, 2, [&](int i, int) {
+    ParallelFor(0, 30, 2, [&](int j, int inner_thread) {
+      EXPECT_EQ(inner_thread, 0);  // the pool is busy with the outer phase
+      hits[static_cast<size_t>(i * 30 + j)] += 1;
+    });
+  });
+  for (const std::atomic<int>& h : hits) EXPECT_EQ(h.load(), 1);
+}
+
+// Two threads (two optimizers, say) call ParallelFor at the same time: one gets the pool, the
+// other runs serially; neither deadlocks, both see every index once.
+TEST(ParallelFor, ConcurrentCallersFromTwoThreads) {
+  auto caller = [](int threads) {
+    for (int r = 0; r < 300; ++r) ExpectEachIndexOnce(0, 1 + (r * 7) % 97, threads, r % 3);
+  };
+  std::thread a(caller, 2), b(caller, 3);
+  a.join();
+  b.join();
+}
+
+// Simulates descheduled workers: each worker is woken 1 s late. A fork-join loop would wait for
+// them at its barrier; here the caller runs every item itself and returns at once.
+TEST(ParallelFor, CallerFinishesThePhaseWhenWorkersAreLate) {
+  ExpectEachIndexOnce(0, 100, 4);  // the workers exist
+  internal::SetWorkerWakeDelayForTesting(1000);
+  std::vector<int> thread_of(200, -1);
+  const auto start = Clock::now();
+  ParallelFor(0, 200, 4, [&](int i, int thread) { thread_of[static_cast<size_t>(i)] = thread; });
+  const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+  EXPECT_LT(seconds, 0.5);
+  EXPECT_EQ(std::count(thread_of.begin(), thread_of.end(), 0), 200);
+  // Later phases with different ranges and thread counts while the late workers wake up (they
+  // must not take items of a phase they were not woken for).
+  internal::SetWorkerWakeDelayForTesting(2);
+  for (int r = 0; r < 200; ++r) ExpectEachIndexOnce(r % 5, 3 + (r * 13) % 150, 2 + r % 3);
+  internal::SetWorkerWakeDelayForTesting(0);
+}
+
+// The pool does run items on its workers (it is not a serial loop): with 2 ms items, a worker
+// takes some within a few phases.
+TEST(ParallelFor, WorkersTakeItems) {
+  bool worker_ran = false;
+  const auto deadline = Clock::now() + std::chrono::seconds(20);
+  while (!worker_ran && Clock::now() < deadline) {
+    std::atomic<int> on_workers{0};
+    ParallelFor(0, 8, 2, [&](int, int thread) {
+      if (thread != 0) ++on_workers;
+      SpinFor(2000);
+    });
+    worker_ran = on_workers.load() > 0;
+  }
+  EXPECT_TRUE(worker_ran);
+  EXPECT_GE(internal::NumThreadPoolWorkers(), 1);
+}
+
+}  // namespace
+}  // namespace idto
