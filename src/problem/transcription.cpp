@@ -1,9 +1,9 @@
-#include "core/parallel.hpp"
 #include "idto/problem/transcription.hpp"
 
 #include <string>
 #include <utility>
 
+#include "core/parallel.hpp"
 #include "idto/contact/inverse_dynamics_with_contact.hpp"
 #include "idto/core/errors.hpp"
 #include "idto/multibody/algorithms/discrete_velocity.hpp"
