@@ -9,7 +9,7 @@
 
 #include <Eigen/Core>
 
-#include "idto/parsers/config.hpp"
+#include "idto/config/config.hpp"
 #include "idto/problem/problem_definition.hpp"
 #include "idto/solver/solver_options.hpp"
 #include "idto/solver/solver_summary.hpp"

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "idto/parsers/config.hpp"
+#include "idto/config/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 
 namespace idto::examples {

@@ -4,7 +4,7 @@
 /// Task measures of the bi-manual examples (examples/bimanual*, the IDTO paper's three bi-manual
 /// tasks): two arms move, lift or balance a floating box. Registered in metrics.cpp.
 
-#include "idto/parsers/config.hpp"
+#include "idto/config/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "run/metrics.hpp"
 

@@ -11,8 +11,8 @@
 
 #include <Eigen/Core>
 
+#include "idto/config/config.hpp"
 #include "idto/mpc/closed_loop.hpp"
-#include "idto/parsers/config.hpp"
 #include "run/metrics.hpp"
 
 namespace idto::examples {

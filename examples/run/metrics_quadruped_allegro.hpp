@@ -5,7 +5,7 @@
 /// in metrics.cpp). The criteria are documented in examples/quadruped/README.md,
 /// examples/quadruped_hills/README.md and examples/allegro/README.md.
 
-#include "idto/parsers/config.hpp"
+#include "idto/config/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "run/metrics.hpp"
 

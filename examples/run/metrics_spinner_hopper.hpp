@@ -4,7 +4,7 @@
 /// Task measures of the spinner and hopper examples (registered by name in metrics.cpp). The
 /// criteria are documented in examples/spinner/README.md and examples/hopper/README.md.
 
-#include "idto/parsers/config.hpp"
+#include "idto/config/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "run/metrics.hpp"
 

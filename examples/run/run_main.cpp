@@ -32,10 +32,10 @@
 #include <string>
 #include <vector>
 
+#include "idto/config/config.hpp"
+#include "idto/config/mpc_config.hpp"
 #include "idto/idto.hpp"
 #include "idto/mpc/closed_loop.hpp"
-#include "idto/parsers/config.hpp"
-#include "idto/parsers/mpc_config.hpp"
 #include "idto/sim/plant.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "idto_build_paths.hpp"

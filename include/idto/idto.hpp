@@ -49,4 +49,5 @@
 // closed loop
 #include "idto/mpc/closed_loop.hpp"
 // example configuration files (YAML): builds models, problems and solver options
-#include "idto/parsers/config.hpp"
+#include "idto/config/config.hpp"
+#include "idto/config/mpc_config.hpp"

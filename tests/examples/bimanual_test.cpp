@@ -15,8 +15,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "idto/config/config.hpp"
 #include "idto/contact/contact_engine.hpp"
-#include "idto/parsers/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "run/metrics.hpp"
 

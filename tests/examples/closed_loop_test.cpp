@@ -12,10 +12,10 @@
 
 #include <Eigen/Core>
 
+#include "idto/config/config.hpp"
+#include "idto/config/mpc_config.hpp"
 #include "idto/mpc/closed_loop.hpp"
 #include "idto/mpc/controller.hpp"
-#include "idto/parsers/config.hpp"
-#include "idto/parsers/mpc_config.hpp"
 #include "idto/sim/plant.hpp"
 #include "run/metrics_closed_loop.hpp"
 

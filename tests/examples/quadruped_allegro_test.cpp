@@ -14,12 +14,12 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "idto/config/config.hpp"
 #include "idto/contact/contact_engine.hpp"
 #include "idto/geometry/signed_distance.hpp"
 #include "idto/multibody/algorithms/dynamics.hpp"
 #include "idto/multibody/algorithms/kinematics.hpp"
 #include "idto/multibody/data.hpp"
-#include "idto/parsers/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "run/metrics.hpp"
 

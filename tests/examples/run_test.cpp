@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-#include "idto/parsers/config.hpp"
+#include "idto/config/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "run/metrics.hpp"
 

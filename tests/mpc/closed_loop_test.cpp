@@ -1,5 +1,5 @@
 // Closed loop: the spinner example against the built-in plant makes progress; the latency
-// model and logs; the mpc: section's errors.
+// model and logs. (The mpc: section's keys and errors: tests/config/mpc_config_test.cpp.)
 
 #include <algorithm>
 #include <cmath>
@@ -9,9 +9,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "idto/config/mpc_config.hpp"
 #include "idto/idto.hpp"
 #include "idto/mpc/closed_loop.hpp"
-#include "idto/parsers/mpc_config.hpp"
 #include "idto/sim/plant.hpp"
 #include "support/test_models.hpp"
 
@@ -81,70 +81,6 @@ TEST(ClosedLoop, ADisturbancePushesThePlant) {
   // Unactuated: only the push acts. x = 1/2 a t^2 + a t (0.3 - 0.1) with a = 1 m/s^2.
   EXPECT_NEAR(plant->q()(4), 0.5 * 0.01 + 0.1 * 0.2, 2e-3);
   EXPECT_NEAR(plant->q()(5), 0.0, 1e-12);
-}
-
-TEST(MpcConfig, ErrorsNameTheKey) {
-  ExampleConfig config = LoadSpinner();
-  auto throws = [&](const std::string& yaml, const std::string& text) {
-    config.mpc = yaml;
-    EXPECT_THAT([&] { ParseMpcConfig(config); }, ::testing::ThrowsMessage<FileError>(AllOf(
-                                                     HasSubstr("spinner.yaml"), HasSubstr(text))));
-  };
-  throws("control_rate: -5", "mpc.control_rate (line 1): is -5; expected a positive number");
-  throws("plant: gazebo", "mpc.plant (line 1): is \"gazebo\"; expected mujoco or builtin");
-  throws("no_such_key: 1", "mpc.no_such_key (line 1): is not a known key");
-  throws("relative: [elbow]", "expected a joint of the scene");
-  throws("kp: [1, 2]", "mpc.kp (line 1): is a list of 2 entries; expected nv = 3");
-  throws("disturbances: [{body: nowhere, force: [1, 0, 0]}]", "expected a body of the scene");
-  throws("latency: sometimes", "expected solve_time, control_period or a delay in seconds");
-  throws("latency: -0.01", "expected solve_time, control_period or a delay in seconds");
-  throws("relative: [{spinner_axle: [1]}]",
-         "mpc.relative[0].spinner_axle[0] (line 1): is 1; expected a coordinate index in [0, 1)");
-  throws("relative: [{spinner_axle: x}]", "expected a non-empty list of coordinate indices");
-  throws("relative: [[1, 2]]", "expected a joint name or {joint: [coordinate indices");
-}
-
-TEST(MpcConfig, OrientationLeadAndMujocoFrictionKeys) {
-  ExampleConfig config =
-      LoadExampleConfig(std::string(IDTO_SOURCE_DIR) + "/examples/allegro/allegro.yaml",
-                        {std::string(IDTO_SOURCE_DIR)});
-  config.mpc =
-      "orientation_lead: {ball_root_joint: 0.4}\nmujoco_torsional_friction: 0.002\n"
-      "mujoco_rolling_friction: 0.01";
-  const MpcConfig m = ParseMpcConfig(config);
-  ASSERT_EQ(m.controller.orientation_leads.size(), 1u);
-  EXPECT_EQ(m.controller.orientation_leads[0].position_start,
-            config.model.GetPositionStart("ball_root_joint"));
-  EXPECT_DOUBLE_EQ(m.controller.orientation_leads[0].max_angle, 0.4);
-  EXPECT_DOUBLE_EQ(m.mujoco.torsional_friction, 0.002);
-  EXPECT_DOUBLE_EQ(m.mujoco.rolling_friction, 0.01);
-  auto throws = [&](const std::string& yaml, const std::string& text) {
-    config.mpc = yaml;
-    EXPECT_THAT([&] { ParseMpcConfig(config); }, ::testing::ThrowsMessage<FileError>(AllOf(
-                                                     HasSubstr("allegro.yaml"), HasSubstr(text))));
-  };
-  throws("orientation_lead: {index_joint0: 0.4}",
-         "mpc.orientation_lead.index_joint0 (line 1): is \"index_joint0\"; expected a floating "
-         "joint");
-  throws("orientation_lead: {ball_root_joint: -1}",
-         "mpc.orientation_lead.ball_root_joint (line 1): is -1; expected a positive number");
-  throws("orientation_lead: [ball_root_joint]", "mpc.orientation_lead (line 1): is a list");
-  throws("mujoco_rolling_friction: -0.01",
-         "mpc.mujoco_rolling_friction (line 1): is -0.01; expected a number >= 0");
-  throws("mujoco_torsional_friction: lots",
-         "mpc.mujoco_torsional_friction (line 1): is \"lots\"; expected a finite number");
-}
-
-TEST(MpcConfig, RelativeCoordinatesAndFixedLatency) {
-  ExampleConfig config = LoadSpinner();
-  config.mpc = "relative: [{spinner_axle: [0]}, finger_elbow]\nlatency: 0.004";
-  const MpcConfig m = ParseMpcConfig(config);
-  const Model& model = config.model;
-  EXPECT_EQ(m.controller.relative_positions,
-            (std::vector<int>{model.GetPositionStart("spinner_axle"),
-                              model.GetPositionStart("finger_elbow")}));
-  EXPECT_EQ(m.closed_loop.latency, mpc::LatencyModel::kFixed);
-  EXPECT_DOUBLE_EQ(m.closed_loop.fixed_latency, 0.004);
 }
 
 // A plant that gives up after a number of steps, as MuJoCo does when it detects instability.

@@ -16,15 +16,17 @@
 ///           weights: {Qq: ..., Qv: ..., R: ..., Qfq: ..., Qfv: ...}, unactuated_dofs: [...],
 ///           initial_guess: interpolate}
 /// solver:  {max_iterations: 100, constraint_method: lagrange, ...}   # SolverOptions fields
-/// mpc:     {...}            # reserved: checked to be a map, kept as text (ExampleConfig::mpc)
+/// mpc:     {control_rate: 100, kp: ..., problem: {...}, solver: {...}, ...}   # MpcConfig
 /// @endcode
 ///
-/// Errors are FileError whose message names the file, the key path (for example
-/// "problem.weights.Qq.elbow"), the value found and what was expected, and the line in the file
-/// when known: "pendulum.yaml: problem.time_step: is -0.05; expected a finite positive number
-/// (line 12)". Unknown keys, duplicate keys, wrong sizes, wrong types, non-finite numbers,
-/// negative weights, non-positive time steps, unknown joint/body/geometry names and unreadable
-/// URDF files are errors.
+/// Every section, `mpc` included, is read by one YAML reader (src/config/yaml_reader.hpp) from
+/// the file's own YAML tree. Errors are FileError whose message names the file, the key path
+/// (for example "problem.weights.Qq.elbow" or "mpc.kp.knee"), the value found and what was
+/// expected, and the line in the file: "pendulum.yaml: problem.time_step: is -0.05; expected a
+/// finite positive number (line 12)". Unknown keys, duplicate keys, wrong sizes, wrong types,
+/// non-finite numbers, non-integers where an integer is expected (2.5, 1e300), negative
+/// weights, non-positive time steps, unknown joint/body/geometry names and unreadable URDF
+/// files are errors. No yaml-cpp exception escapes.
 ///
 /// Numbers may be written as YAML numbers or with pi: "pi", "-pi/2", "2*pi", "0.5*pi/3".
 
@@ -34,6 +36,7 @@
 
 #include <Eigen/Core>
 
+#include "idto/config/mpc_config.hpp"
 #include "idto/multibody/model.hpp"
 #include "idto/parsers/urdf.hpp"
 #include "idto/problem/problem_definition.hpp"
@@ -71,10 +74,10 @@ struct ExampleConfig {
   SolverOptions solver;                  ///< valid (SolverOptions::IsValid)
   InitialGuessType initial_guess{InitialGuessType::kInterpolate};
 
-  /// The `mpc` section (model predictive control options, parsed by ParseMpcConfig in
-  /// idto/parsers/mpc_config.hpp): checked to be a map and kept here as YAML text (empty when
-  /// absent).
-  std::string mpc;
+  /// The `mpc` section (model predictive control options, idto/config/mpc_config.hpp), read and
+  /// checked with the rest of the file; empty when the file has no `mpc` section
+  /// (ParseMpcConfig then gives the defaults).
+  std::optional<MpcConfig> mpc;
   /// The controller's problem when `mpc.problem` or `mpc.contact` is given: `problem` with the
   /// keys of `mpc.problem` replacing the open-loop ones (`nominal` and `weights` merged key by
   /// key) and the contact law parameters of `mpc.contact` replacing the scene's (pair filters and

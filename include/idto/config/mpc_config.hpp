@@ -9,10 +9,11 @@
 
 #include "idto/mpc/closed_loop.hpp"
 #include "idto/mpc/controller.hpp"
-#include "idto/parsers/config.hpp"
 #include "idto/sim/plant.hpp"
 
 namespace idto {
+
+struct ExampleConfig;
 
 /// Everything `idto-run NAME --mpc` needs beyond the open-loop problem.
 struct MpcConfig {
@@ -24,11 +25,14 @@ struct MpcConfig {
   int initial_iterations{50};          ///< iterations of the cold-start solve before t = 0
 };
 
-/// Parses config.mpc (YAML text). Keys (all optional):
-///   control_rate (Hz, default 100), iterations_per_step (1), duration (s, 5),
-///   initial_iterations (50), plant (mujoco|builtin; default mujoco when available),
-///   plant_time_step (s, 1e-3), latency (solve_time|control_period|a delay in s),
-///   kp, kd: a number for every actuated DoF, a list of nv, or {default: x, joint: value},
+/// The `mpc:` section of `config`: config.mpc, read by LoadExampleConfig with the rest of the
+/// file, or the defaults below (for config.model and the scene's contact) when the file has no
+/// `mpc` section. Keys (all optional):
+///   control_rate (Hz, default 100), iterations_per_step (integer >= 1, default 1),
+///   duration (s, 5; at least one plant step), initial_iterations (integer >= 0, 50),
+///   plant (mujoco|builtin; default mujoco when available), plant_time_step (s, 1e-3),
+///   latency (solve_time|control_period|a delay in s),
+///   kp, kd: a number for every DoF, a list of nv, or {default: x, joint: value or list},
 ///   relative: [joint names, or {joint: [coordinate indices within the joint]}] whose position
 ///     coordinates keep their nominal offsets from the measured state,
 ///   orientation_lead: {floating joint: angle in rad > 0}: the joint's nominal orientation is
@@ -40,10 +44,11 @@ struct MpcConfig {
 ///   mujoco_torsional_friction, mujoco_rolling_friction (m, default 0: MuJoCo's torsional and
 ///     rolling friction on every pair, condim 4 / 6; sim::MujocoPlantOptions),
 ///   disturbances: [{body, start, duration, force: [fx, fy, fz]}],
-///   problem: overrides of the open-loop `problem` keys for the controller (parsed by
-///     LoadExampleConfig into ExampleConfig::mpc_problem).
-/// Errors are FileError naming config.source_file, the key path "mpc.<key>", the value and what
-/// was expected. The plant's pair filters come from the scene's contact options.
+///   problem, contact, solver: the controller's own problem, contact law parameters and solver
+///     options (ExampleConfig::mpc_problem and ExampleConfig::mpc_solver).
+/// Errors (thrown by LoadExampleConfig) are FileError naming the file, the key path
+/// "mpc.<key>", the line in the file, the value and what was expected. The plant's pair
+/// filters come from the scene's contact options.
 MpcConfig ParseMpcConfig(const ExampleConfig& config);
 
 }  // namespace idto

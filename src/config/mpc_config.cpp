@@ -1,0 +1,267 @@
+#include "idto/config/mpc_config.hpp"
+
+// The `mpc` section: its sub-sections `problem`, `contact` and `solver` (read by the problem,
+// contact and solver sections' code) and the controller, plant and closed-loop keys (here).
+// Read from the file's own YAML tree by the reader of yaml_reader.hpp, like every section.
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "config_loader.hpp"
+#include "idto/config/config.hpp"
+#include "idto/core/errors.hpp"
+#include "joint_vector_reader.hpp"
+
+namespace idto {
+
+namespace config_internal {
+
+namespace {
+
+const std::vector<std::string> kMpcKeys = {"control_rate",
+                                           "iterations_per_step",
+                                           "duration",
+                                           "initial_iterations",
+                                           "plant",
+                                           "plant_time_step",
+                                           "latency",
+                                           "kp",
+                                           "kd",
+                                           "relative",
+                                           "orientation_lead",
+                                           "builtin_contact",
+                                           "mujoco_friction",
+                                           "mujoco_torsional_friction",
+                                           "mujoco_rolling_friction",
+                                           "disturbances",
+                                           "problem",
+                                           "contact",
+                                           "solver"};
+const std::vector<std::string> kBuiltinContactKeys = {
+    "stiffness", "smoothing", "dissipation_velocity", "friction_coefficient", "stiction_velocity"};
+const std::vector<std::string> kDisturbanceKeys = {"body", "start", "duration", "force"};
+
+/// The options of a file without an `mpc` section (and the starting point of one with it).
+MpcConfig DefaultMpcConfig(const Model& model, const ContactOptions& scene_contact) {
+  MpcConfig m;
+  m.plant = sim::HaveMujoco() ? "mujoco" : "builtin";
+  m.builtin.pairs = scene_contact;
+  m.builtin.contact.friction_coefficient = scene_contact.parameters.friction_coefficient;
+  m.mujoco.pairs = scene_contact;
+  m.mujoco.friction_coefficient = scene_contact.parameters.friction_coefficient;
+  m.controller.gains.Kp = Eigen::VectorXd::Zero(model.nv());
+  m.controller.gains.Kd = Eigen::VectorXd::Zero(model.nv());
+  return m;
+}
+
+/// control_rate, iterations_per_step, duration, initial_iterations, plant, plant_time_step and
+/// the MuJoCo friction keys.
+void ReadScalars(const MapReader& mpc, MpcConfig* m) {
+  mpc::MpcOptions& c = m->controller;
+  c.control_rate = mpc.Positive("control_rate", c.control_rate);
+  c.iterations_per_step = mpc.Int("iterations_per_step", c.iterations_per_step, 1);
+  m->initial_iterations = mpc.Int("initial_iterations", m->initial_iterations, 0);
+  const std::vector<std::string> plants = {"mujoco", "builtin"};
+  m->plant = plants[mpc.Enum("plant", plants, m->plant == "mujoco" ? 0 : 1)];
+  mpc::ClosedLoopOptions& cl = m->closed_loop;
+  cl.plant_time_step = mpc.Positive("plant_time_step", cl.plant_time_step);
+  m->builtin.time_step = cl.plant_time_step;
+  m->mujoco.time_step = cl.plant_time_step;
+  cl.duration = mpc.Positive("duration", cl.duration);
+  if (cl.duration < cl.plant_time_step) {
+    const bool given = mpc.Has("duration");
+    mpc.reader().FailValue(
+        given ? mpc.Get("duration") : mpc.Get("plant_time_step"), mpc.Path("duration"),
+        FormatValue(cl.duration) + " s",
+        "at least one plant step (plant_time_step = " + FormatValue(cl.plant_time_step) + " s)");
+  }
+  m->mujoco.friction_coefficient =
+      mpc.NonNegative("mujoco_friction", m->mujoco.friction_coefficient);
+  m->mujoco.torsional_friction =
+      mpc.NonNegative("mujoco_torsional_friction", m->mujoco.torsional_friction);
+  m->mujoco.rolling_friction =
+      mpc.NonNegative("mujoco_rolling_friction", m->mujoco.rolling_friction);
+}
+
+/// latency: solve_time, control_period, or a fixed delay in seconds (reproducible runs).
+void ReadLatency(const MapReader& mpc, mpc::ClosedLoopOptions* cl) {
+  if (!mpc.Has("latency")) return;
+  const YAML::Node node = mpc.Get("latency");
+  const std::string expected = "solve_time, control_period or a delay in seconds >= 0";
+  if (!node.IsScalar()) mpc.reader().FailValue(node, mpc.Path("latency"), Describe(node), expected);
+  const std::string text = Trim(node.Scalar());
+  double seconds = 0.0;
+  if (text == "solve_time") {
+    cl->latency = mpc::LatencyModel::kSolveTime;
+  } else if (text == "control_period") {
+    cl->latency = mpc::LatencyModel::kControlPeriod;
+  } else if (ParseNumber(text, &seconds) && std::isfinite(seconds) && seconds >= 0.0) {
+    cl->latency = mpc::LatencyModel::kFixed;
+    cl->fixed_latency = seconds;
+  } else {
+    mpc.reader().FailValue(node, mpc.Path("latency"), Describe(node), expected);
+  }
+}
+
+/// relative: [joint, or {joint: [coordinate indices within the joint]}] -> position indices.
+void ReadRelative(const MapReader& mpc, const Model& model, mpc::MpcOptions* c) {
+  if (!mpc.Has("relative")) return;
+  const Reader& r = mpc.reader();
+  const YAML::Node list = mpc.Get("relative");
+  const std::string expected = "a joint name or {joint: [coordinate indices within the joint]}";
+  if (!list.IsSequence())
+    r.FailValue(list, mpc.Path("relative"), Describe(list), "a list of joints");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string path = At(mpc.Path("relative"), i);
+    const YAML::Node entry = list[i];
+    if (!entry.IsScalar() && !(entry.IsMap() && entry.size() == 1)) {
+      r.FailValue(entry, path, Describe(entry), expected);
+    }
+    const MapEntry e = entry.IsScalar() ? MapEntry{entry.Scalar(), entry, YAML::Node()}
+                                        : r.Entries(entry, path, expected).front();
+    if (!model.HasJoint(e.key)) {
+      r.FailValue(e.key_node, path, "'" + e.key + "'", "a joint of the scene");
+    }
+    const JointIndex j = model.GetJointIndex(e.key);
+    const int nq_j = model.joint_nq(j);
+    if (entry.IsScalar()) {
+      for (int k = 0; k < nq_j; ++k) c->relative_positions.push_back(model.position_start(j) + k);
+      continue;
+    }
+    const std::string joint_path = Join(path, e.key);
+    if (!e.value.IsSequence() || e.value.size() == 0) {
+      r.FailValue(e.value, joint_path, Describe(e.value), "a non-empty list of coordinate indices");
+    }
+    for (std::size_t k = 0; k < e.value.size(); ++k) {
+      const int index = r.Int(e.value[k], At(joint_path, k), 0);
+      if (index >= nq_j) {
+        r.FailValue(
+            e.value[k], At(joint_path, k), std::to_string(index),
+            "a coordinate index in [0, " + std::to_string(nq_j) + ") of joint '" + e.key + "'");
+      }
+      c->relative_positions.push_back(model.position_start(j) + index);
+    }
+  }
+}
+
+/// orientation_lead: {floating joint: largest lead angle in rad}.
+void ReadOrientationLeads(const MapReader& mpc, const Model& model, mpc::MpcOptions* c) {
+  if (!mpc.Has("orientation_lead")) return;
+  const Reader& r = mpc.reader();
+  const std::string path = mpc.Path("orientation_lead");
+  const std::string expected = "a map {floating joint: largest lead in rad}";
+  const std::vector<MapEntry> entries = r.Entries(mpc.Get("orientation_lead"), path, expected);
+  if (entries.empty()) r.FailValue(mpc.Get("orientation_lead"), path, "an empty map", expected);
+  for (const MapEntry& e : entries) {
+    if (!model.HasJoint(e.key) ||
+        model.joint_type(model.GetJointIndex(e.key)) != JointType::kFloating) {
+      r.FailValue(e.key_node, Join(path, e.key), "'" + e.key + "'",
+                  "a floating joint of the scene (its quaternion)");
+    }
+    mpc::MpcOptions::OrientationLead lead;
+    lead.position_start = model.position_start(model.GetJointIndex(e.key));
+    lead.max_angle = r.Positive(e.value, Join(path, e.key));
+    c->orientation_leads.push_back(lead);
+  }
+}
+
+/// builtin_contact: the built-in plant's contact law (keys absent keep the plant's defaults).
+void ReadBuiltinContact(const MapReader& mpc, sim::BuiltinPlantOptions* builtin) {
+  if (!mpc.Has("builtin_contact")) return;
+  const MapReader b(mpc.reader(), mpc.Get("builtin_contact"), mpc.Path("builtin_contact"),
+                    kBuiltinContactKeys);
+  ContactParameters& p = builtin->contact;
+  p = sim::BuiltinPlantOptions{}.contact;
+  p.stiffness = b.Positive("stiffness", p.stiffness);
+  p.smoothing = b.Positive("smoothing", p.smoothing);
+  p.dissipation_velocity = b.Positive("dissipation_velocity", p.dissipation_velocity);
+  p.friction_coefficient = b.NonNegative("friction_coefficient", p.friction_coefficient);
+  p.stiction_velocity = b.Positive("stiction_velocity", p.stiction_velocity);
+}
+
+/// disturbances: [{body, start, duration, force: [fx, fy, fz]}].
+void ReadDisturbances(const MapReader& mpc, const Model& model, mpc::ClosedLoopOptions* cl) {
+  if (!mpc.Has("disturbances")) return;
+  const Reader& r = mpc.reader();
+  const YAML::Node list = mpc.Get("disturbances");
+  if (!list.IsSequence()) {
+    r.FailValue(list, mpc.Path("disturbances"), Describe(list),
+                "a list of {body, start, duration, force: [fx, fy, fz]}");
+  }
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const MapReader d(r, list[i], At(mpc.Path("disturbances"), i), kDisturbanceKeys);
+    mpc::Disturbance disturbance;
+    const std::string body = r.String(d.Require("body"), d.Path("body"));
+    if (!model.HasBody(body)) {
+      r.FailValue(d.Get("body"), d.Path("body"), "'" + body + "'", "a body of the scene");
+    }
+    disturbance.body = model.GetBodyIndex(body);
+    disturbance.start = d.NonNegative("start", disturbance.start);
+    disturbance.duration = d.Positive("duration", disturbance.duration);
+    disturbance.force_W = r.Vector3(d.Require("force"), d.Path("force"));
+    cl->disturbances.push_back(disturbance);
+  }
+}
+
+/// The controller, plant and closed-loop keys of `mpc`.
+MpcConfig ReadMpcConfig(const MapReader& mpc, const ExampleConfig& config) {
+  const Model& model = config.model;
+  MpcConfig m = DefaultMpcConfig(model, config.problem.contact);
+  ReadScalars(mpc, &m);
+  ReadLatency(mpc, &m.closed_loop);
+  const JointVectorReader gains(mpc.reader(), model);
+  using Space = JointVectorReader::Space;
+  if (mpc.Has("kp")) {
+    m.controller.gains.Kp =
+        gains.Read(mpc.Get("kp"), mpc.Path("kp"), Space::kVelocities, m.controller.gains.Kp, true);
+  }
+  if (mpc.Has("kd")) {
+    m.controller.gains.Kd =
+        gains.Read(mpc.Get("kd"), mpc.Path("kd"), Space::kVelocities, m.controller.gains.Kd, true);
+  }
+  ReadRelative(mpc, model, &m.controller);
+  ReadOrientationLeads(mpc, model, &m.controller);
+  ReadBuiltinContact(mpc, &m.builtin);
+  ReadDisturbances(mpc, model, &m.closed_loop);
+  try {
+    m.controller.Validate(model);
+  } catch (const std::exception& e) {
+    mpc.reader().Fail(mpc.node(), mpc.path(), e.what());
+  }
+  return m;
+}
+
+}  // namespace
+
+void ConfigLoader::LoadMpc(const YAML::Node& node, const YAML::Node& open_loop_problem) {
+  const MapReader mpc(reader_, node, "mpc", kMpcKeys);
+  // The controller's own contact law (parameters only: the scene's pair filters and per-pair
+  // overrides stay) and problem, when given.
+  if (mpc.Has("problem") || mpc.Has("contact")) {
+    const ContactOptions scene_contact = contact_;
+    if (mpc.Has("contact")) {
+      LoadContactParameters(mpc.Get("contact"), mpc.Path("contact"), &contact_.parameters);
+    }
+    LoadMpcProblem(open_loop_problem,
+                   mpc.Has("problem") ? mpc.Get("problem") : YAML::Node(YAML::NodeType::Map));
+    contact_ = scene_contact;
+  }
+  // The controller's solver options: the open loop's with the keys of mpc.solver over them.
+  if (mpc.Has("solver")) {
+    const SolverOptions open_loop = config_.solver;
+    LoadSolver(mpc.Get("solver"), mpc.Path("solver"));
+    config_.mpc_solver = config_.solver;
+    config_.solver = open_loop;
+  }
+  config_.mpc = ReadMpcConfig(mpc, config_);
+}
+
+}  // namespace config_internal
+
+MpcConfig ParseMpcConfig(const ExampleConfig& config) {
+  if (config.mpc.has_value()) return *config.mpc;
+  return config_internal::DefaultMpcConfig(config.model, config.problem.contact);
+}
+
+}  // namespace idto

@@ -1,0 +1,251 @@
+// The `mpc:` section: read by the same reader as the rest of the file, so that its errors name
+// the file, the key path and the line of the file itself; integers are integers; unknown and
+// duplicate keys are errors; no yaml-cpp exception escapes.
+
+#include "idto/config/mpc_config.hpp"
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "config_test_helpers.hpp"
+#include "idto/config/config.hpp"
+#include "idto/core/errors.hpp"
+
+namespace idto {
+namespace {
+
+using test::kBase;
+using test::kShareDirs;
+using test::LoadText;
+using ::testing::AllOf;
+using ::testing::HasSubstr;
+using ::testing::ThrowsMessage;
+
+/// kBase (13 lines) and an mpc section whose first two lines (15, 16) are valid; `lines` start
+/// at line 17 of the file.
+std::string MpcFile(const std::string& lines) {
+  return kBase + "mpc:\n  plant: builtin\n  duration: 1.0\n" + lines;
+}
+
+/// Writes `text` to a file of the test's temporary folder; returns its path.
+std::string WriteFile(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + "/" + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+/// A callable that loads the file `name` holding `text`.
+auto LoadingFile(const std::string& name, const std::string& text) {
+  const std::string path = WriteFile(name, text);
+  return [path]() { LoadExampleConfig(path, kShareDirs); };
+}
+
+/// The message of a FileError naming `file`, `key_path` and `line`, with `text` in it.
+auto ErrorAt(const std::string& file, const std::string& key_path, int line,
+             const std::string& text) {
+  return ThrowsMessage<FileError>(AllOf(HasSubstr(file), HasSubstr(": " + key_path + ": "),
+                                        HasSubstr("(line " + std::to_string(line) + ")"),
+                                        HasSubstr(text)));
+}
+
+TEST(MpcConfigTest, ReadWithTheFile) {
+  const ExampleConfig config = LoadText(MpcFile(
+      "  control_rate: 50\n  iterations_per_step: 3\n  initial_iterations: 0\n"
+      "  kp: {default: 1, elbow: 4}\n  kd: [0.5, 0.25]\n  latency: 0.002\n"
+      "  disturbances: [{body: lower_link, start: 0.5, duration: 0.1, force: [0, 1, 0]}]\n"));
+  ASSERT_TRUE(config.mpc.has_value());
+  const MpcConfig& m = *config.mpc;
+  EXPECT_EQ(m.plant, "builtin");
+  EXPECT_DOUBLE_EQ(m.closed_loop.duration, 1.0);
+  EXPECT_DOUBLE_EQ(m.controller.control_rate, 50);
+  EXPECT_EQ(m.controller.iterations_per_step, 3);
+  EXPECT_EQ(m.initial_iterations, 0);
+  EXPECT_DOUBLE_EQ(m.controller.gains.Kp(config.model.GetVelocityStart("shoulder")), 1.0);
+  EXPECT_DOUBLE_EQ(m.controller.gains.Kp(config.model.GetVelocityStart("elbow")), 4.0);
+  EXPECT_DOUBLE_EQ(m.controller.gains.Kd(1), 0.25);
+  EXPECT_EQ(m.closed_loop.latency, mpc::LatencyModel::kFixed);
+  EXPECT_DOUBLE_EQ(m.closed_loop.fixed_latency, 0.002);
+  ASSERT_EQ(m.closed_loop.disturbances.size(), 1u);
+  EXPECT_EQ(m.closed_loop.disturbances[0].body, config.model.GetBodyIndex("lower_link"));
+  // ParseMpcConfig gives the section as read.
+  EXPECT_EQ(ParseMpcConfig(config).controller.iterations_per_step, 3);
+}
+
+TEST(MpcConfigTest, DefaultsWithoutTheSection) {
+  const ExampleConfig config = LoadText(kBase);
+  EXPECT_FALSE(config.mpc.has_value());
+  const MpcConfig m = ParseMpcConfig(config);
+  EXPECT_EQ(m.controller.gains.Kp.size(), config.model.nv());
+  EXPECT_EQ(m.controller.iterations_per_step, 1);
+  EXPECT_EQ(m.initial_iterations, 50);
+  EXPECT_EQ(m.mujoco.friction_coefficient, config.problem.contact.parameters.friction_coefficient);
+}
+
+// The cases of the issue: each error names the file, the key path and the file's own line.
+TEST(MpcConfigTest, ErrorsNameFileKeyPathAndLineOfTheFile) {
+  const std::string f = "bad_mpc.yaml";
+  EXPECT_THAT(LoadingFile(f, MpcFile("  control_rate: [1, 2]\n")),
+              ErrorAt(f, "mpc.control_rate", 17, "is a list of 2 entries [1, 2]; expected a"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  control_rate: 10\n  kp:\n    shoulder: 1\n"
+                                     "    elbow: [1, 2]\n")),
+              ErrorAt(f, "mpc.kp.elbow", 20, "is a list of 2 entries"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  iterations_per_step: 2.5\n")),
+              ErrorAt(f, "mpc.iterations_per_step", 17, "is '2.5'; expected an integer >= 1"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  control_rate: 10\n  initial_iterations: 1e300\n")),
+              ErrorAt(f, "mpc.initial_iterations", 18, "is '1e300'; expected an integer >= 0"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  initial_iterations: 2.0\n")),
+              ErrorAt(f, "mpc.initial_iterations", 17, "expected an integer"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  control_rate: 10\n  replan_hz: 50\n")),
+              ErrorAt(f, "mpc.replan_hz", 18, "unknown key; expected one of control_rate"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  control_rate: 10\n  control_rate: 20\n")),
+              ErrorAt(f, "mpc.control_rate", 18, "duplicate key"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  kp: {shoulder: 1,\n       shoulder: 2}\n")),
+              ErrorAt(f, "mpc.kp.shoulder", 18, "duplicate key"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  orientation_lead: {a: 1, a: 2}\n")),
+              ErrorAt(f, "mpc.orientation_lead.a", 17, "duplicate key"));
+}
+
+TEST(MpcConfigTest, DurationShorterThanAPlantStep) {
+  EXPECT_THAT(LoadingFile("short.yaml", MpcFile("  plant_time_step: 2.0\n")),
+              ErrorAt("short.yaml", "mpc.duration", 16,
+                      "is 1 s; expected at least one plant step (plant_time_step = 2 s)"));
+  // At the default plant step (1 ms).
+  EXPECT_THAT(LoadingFile("short.yaml", kBase + "mpc:\n  duration: 0.0004\n"),
+              ErrorAt("short.yaml", "mpc.duration", 15, "expected at least one plant step"));
+}
+
+TEST(MpcConfigTest, SubSectionsNameTheirKeyPathAndLine) {
+  const std::string f = "bad_mpc.yaml";
+  EXPECT_THAT(LoadingFile(f, MpcFile("  solver: {max_iterations: 2.5}\n")),
+              ErrorAt(f, "mpc.solver.max_iterations", 17, "is '2.5'"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  problem:\n    weights: {R: [1]}\n")),
+              ErrorAt(f, "mpc.problem.weights.R", 18, "nv = 2"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  contact:\n    stiffness: -1\n")),
+              ErrorAt(f, "mpc.contact.stiffness", 18, "is -1"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  relative: [{elbow: [0.5]}]\n")),
+              ErrorAt(f, "mpc.relative[0].elbow[0]", 17, "is '0.5'; expected an integer"));
+  EXPECT_THAT(
+      LoadingFile(f, MpcFile("  disturbances:\n    - {body: lower_link, force: [1, x, 0]}\n")),
+      ErrorAt(f, "mpc.disturbances[0].force[1]", 18, "is 'x'; expected a number"));
+}
+
+TEST(MpcConfigTest, NoYamlExceptionEscapes) {
+  for (const std::string lines :
+       {"  plant: [builtin]\n", "  latency: [1]\n", "  latency: {a: 1}\n", "  kp: {[1]: 2}\n",
+        "  relative: [{elbow: {a: 1}}]\n", "  relative: [{[elbow]: [0]}]\n",
+        "  orientation_lead: {[a]: 1}\n", "  disturbances: [{body: [a], force: [1, 0, 0]}]\n",
+        "  disturbances: [3]\n", "  builtin_contact: [1]\n", "  problem: [1]\n", "  solver: 3\n",
+        "  contact: {stiffness: {a: 1}}\n", "  kd: \n", "  mujoco_friction: ~\n",
+        "  iterations_per_step: 99999999999999999999\n", "  initial_iterations: -1\n",
+        "  problem: {nominal: 3}\n", "  problem: {weights: {Qq: [[1]]}}\n"}) {
+    SCOPED_TRACE(lines);
+    const std::string text = kBase + "mpc:\n" + lines;
+    EXPECT_THROW(LoadText(text), FileError);
+  }
+}
+
+// ------------------------------------------------------------------------------------------
+// The keys of the spinner and Allegro examples, with their mpc sections replaced.
+
+/// The example's file with its `mpc:` section (the last one) replaced by `lines`; the first of
+/// `lines` is at line *first_line of the file.
+std::string ExampleWithMpc(const std::string& name, const std::string& lines, int* first_line) {
+  std::ifstream in(std::string(IDTO_SOURCE_DIR) + "/examples/" + name + "/" + name + ".yaml");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str();
+  const std::string before = s.substr(0, s.find("\nmpc:") + 1);
+  // `before` ends with a newline: "mpc:" is on line (newlines + 1), the first of `lines` next.
+  *first_line = static_cast<int>(std::count(before.begin(), before.end(), '\n')) + 2;
+  return before + "mpc:\n" + lines;
+}
+
+ExampleConfig LoadExample(const std::string& name, const std::string& text) {
+  const std::string dir = std::string(IDTO_SOURCE_DIR) + "/examples/" + name;
+  return LoadExampleConfigString(text, name + ".yaml", dir, kShareDirs);
+}
+
+TEST(MpcConfigTest, SpinnerKeysAndErrors) {
+  int line = 0;
+  ExampleConfig config =
+      LoadExample("spinner", ExampleWithMpc("spinner",
+                                            "  relative: [{spinner_axle: [0]}, finger_elbow]\n"
+                                            "  latency: 0.004\n",
+                                            &line));
+  const Model& model = config.model;
+  ASSERT_TRUE(config.mpc.has_value());
+  EXPECT_EQ(config.mpc->controller.relative_positions,
+            (std::vector<int>{model.GetPositionStart("spinner_axle"),
+                              model.GetPositionStart("finger_elbow")}));
+  EXPECT_EQ(config.mpc->closed_loop.latency, mpc::LatencyModel::kFixed);
+  EXPECT_DOUBLE_EQ(config.mpc->closed_loop.fixed_latency, 0.004);
+
+  auto throws = [&](const std::string& lines, const std::string& key_path,
+                    const std::string& text) {
+    int first = 0;
+    const std::string yaml = ExampleWithMpc("spinner", lines, &first);
+    EXPECT_THAT([&] { LoadExample("spinner", yaml); },
+                ErrorAt("spinner.yaml", key_path, first, text));
+  };
+  throws("  control_rate: -5\n", "mpc.control_rate", "is -5; expected a finite positive number");
+  throws("  plant: gazebo\n", "mpc.plant", "is 'gazebo'; expected one of mujoco, builtin");
+  throws("  no_such_key: 1\n", "mpc.no_such_key", "unknown key");
+  throws("  relative: [elbow]\n", "mpc.relative[0]", "is 'elbow'; expected a joint of the scene");
+  throws("  kp: [1, 2]\n", "mpc.kp", "is a list of 2 entries [1, 2]; expected a list of nv = 3");
+  throws("  disturbances: [{body: nowhere, force: [1, 0, 0]}]\n", "mpc.disturbances[0].body",
+         "expected a body of the scene");
+  throws("  latency: sometimes\n", "mpc.latency",
+         "expected solve_time, control_period or a delay in seconds");
+  throws("  latency: -0.01\n", "mpc.latency",
+         "expected solve_time, control_period or a delay in seconds");
+  throws("  relative: [{spinner_axle: [1]}]\n", "mpc.relative[0].spinner_axle[0]",
+         "is 1; expected a coordinate index in [0, 1)");
+  throws("  relative: [{spinner_axle: x}]\n", "mpc.relative[0].spinner_axle",
+         "expected a non-empty list of coordinate indices");
+  throws("  relative: [[1, 2]]\n", "mpc.relative[0]",
+         "expected a joint name or {joint: [coordinate indices");
+}
+
+TEST(MpcConfigTest, OrientationLeadAndMujocoFrictionKeys) {
+  int line = 0;
+  const ExampleConfig config =
+      LoadExample("allegro", ExampleWithMpc("allegro",
+                                            "  orientation_lead: {ball_root_joint: 0.4}\n"
+                                            "  mujoco_torsional_friction: 0.002\n"
+                                            "  mujoco_rolling_friction: 0.01\n",
+                                            &line));
+  ASSERT_TRUE(config.mpc.has_value());
+  const MpcConfig& m = *config.mpc;
+  ASSERT_EQ(m.controller.orientation_leads.size(), 1u);
+  EXPECT_EQ(m.controller.orientation_leads[0].position_start,
+            config.model.GetPositionStart("ball_root_joint"));
+  EXPECT_DOUBLE_EQ(m.controller.orientation_leads[0].max_angle, 0.4);
+  EXPECT_DOUBLE_EQ(m.mujoco.torsional_friction, 0.002);
+  EXPECT_DOUBLE_EQ(m.mujoco.rolling_friction, 0.01);
+  auto throws = [&](const std::string& lines, const std::string& key_path,
+                    const std::string& text) {
+    int first = 0;
+    const std::string yaml = ExampleWithMpc("allegro", lines, &first);
+    EXPECT_THAT([&] { LoadExample("allegro", yaml); },
+                ErrorAt("allegro.yaml", key_path, first, text));
+  };
+  throws("  orientation_lead: {index_joint0: 0.4}\n", "mpc.orientation_lead.index_joint0",
+         "is 'index_joint0'; expected a floating joint");
+  throws("  orientation_lead: {ball_root_joint: -1}\n", "mpc.orientation_lead.ball_root_joint",
+         "is -1; expected a finite positive number");
+  throws("  orientation_lead: [ball_root_joint]\n", "mpc.orientation_lead", "is a list");
+  throws("  mujoco_rolling_friction: -0.01\n", "mpc.mujoco_rolling_friction",
+         "is -0.01; expected a finite non-negative number");
+  throws("  mujoco_torsional_friction: lots\n", "mpc.mujoco_torsional_friction",
+         "is 'lots'; expected a number");
+}
+
+}  // namespace
+}  // namespace idto
