@@ -164,18 +164,21 @@ TEST(BandedKkt, MatchesDenseFormulaIllConditioned) {
       SCOPED_TRACE(::testing::Message()
                    << "cond=" << condition << " N=" << N << " n=" << n << " nu=" << nu);
       const KktProblem P = RandomProblem(N, n, nu, condition, 1e3, &rng);
-      for (int steps = 0; steps <= 2; ++steps) {
-        const auto [ep, el] = BandedErrors(P, steps);
-        EXPECT_LT(ep, 1e-9) << "refinement steps " << steps;
-        EXPECT_LT(el, 1e-9) << "refinement steps " << steps;
-        worst[steps][0] = std::max(worst[steps][0], ep);
-        worst[steps][1] = std::max(worst[steps][1], el);
-      }
       Eigen::VectorXd p, lambda, p_ref, lambda_ref;
       DenseDouble(P, &p, &lambda);
       DenseOracle(P, &p_ref, &lambda_ref);
-      worst_dense[0] = std::max(worst_dense[0], RelativeError(p, p_ref));
-      worst_dense[1] = std::max(worst_dense[1], RelativeError(lambda, lambda_ref));
+      const double dense_p = RelativeError(p, p_ref);
+      const double dense_l = RelativeError(lambda, lambda_ref);
+      worst_dense[0] = std::max(worst_dense[0], dense_p);
+      worst_dense[1] = std::max(worst_dense[1], dense_l);
+      for (int steps = 0; steps <= 2; ++steps) {
+        const auto [ep, el] = BandedErrors(P, steps);
+        // Refined (the default): 1e-9. Unrefined: no worse than today's dense route in double.
+        EXPECT_LT(ep, steps > 0 ? 1e-9 : std::max(1e-9, 4 * dense_p)) << "refinement " << steps;
+        EXPECT_LT(el, steps > 0 ? 1e-9 : std::max(1e-9, 4 * dense_l)) << "refinement " << steps;
+        worst[steps][0] = std::max(worst[steps][0], ep);
+        worst[steps][1] = std::max(worst[steps][1], el);
+      }
     }
   }
   for (int steps = 0; steps <= 2; ++steps) {
@@ -184,6 +187,32 @@ TEST(BandedKkt, MatchesDenseFormulaIllConditioned) {
   }
   std::cout << "ill-conditioned, dense formula in double: worst relative error p " << worst_dense[0]
             << ", lambda " << worst_dense[1] << "\n";
+}
+
+// Beyond the acceptance range: H's condition number 1e9 before the scaling (entries spanning
+// 1e-6..1e6 as above). Not worse than today's dense route in double; prints both.
+TEST(BandedKkt, NoWorseThanTheDenseRouteAtConditionNumber1e9) {
+  test::Random rng(10);
+  double worst[2] = {0, 0}, worst_dense[2] = {0, 0};
+  for (auto [N, n, nu] : kSizes) {
+    SCOPED_TRACE(::testing::Message() << "N=" << N << " n=" << n << " nu=" << nu);
+    const KktProblem P = RandomProblem(N, n, nu, 1e9, 1e3, &rng);
+    Eigen::VectorXd p, lambda, p_ref, lambda_ref;
+    DenseDouble(P, &p, &lambda);
+    DenseOracle(P, &p_ref, &lambda_ref);
+    const double dense_p = RelativeError(p, p_ref);
+    const double dense_l = RelativeError(lambda, lambda_ref);
+    const auto [ep, el] = BandedErrors(P, 1);
+    EXPECT_LT(ep, std::max(1e-9, 4 * dense_p));
+    EXPECT_LT(el, std::max(1e-9, 4 * dense_l));
+    worst[0] = std::max(worst[0], ep);
+    worst[1] = std::max(worst[1], el);
+    worst_dense[0] = std::max(worst_dense[0], dense_p);
+    worst_dense[1] = std::max(worst_dense[1], dense_l);
+  }
+  std::cout << "condition 1e9: worst relative error banded (1 refinement step) p " << worst[0]
+            << ", lambda " << worst[1] << "; dense in double p " << worst_dense[0] << ", lambda "
+            << worst_dense[1] << "\n";
 }
 
 TEST(BandedKkt, SatisfiesTheSystemAndTheMeritGradient) {
