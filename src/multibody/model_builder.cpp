@@ -354,7 +354,16 @@ Model ModelBuilder::Build() const {
     const SpatialInertia I_B = SpatialInertia::FromMassComInertia(I.mass, I.p_BBcm, I.I_BBcm_B);
     m.inertia_[mb] += I_B.ExpressedIn(m.X_MB_[b]);
   }
-  // Whole-model vectors.
+  FillJointVectors(&m);
+  FillFramesAndGeometry(&m);
+  CheckMassMatrix(kWhere, m);
+  return m;
+}
+
+// Whole-model vectors per coordinate: damping, limits, base DoFs, owners.
+void ModelBuilder::FillJointVectors(Model* model) const {
+  Model& m = *model;
+  const int nq = m.nq_, nv = m.nv_;
   m.damping_ = Eigen::VectorXd::Zero(nv);
   m.effort_limits_ = Eigen::VectorXd::Constant(nv, std::numeric_limits<double>::infinity());
   m.velocity_limits_ = Eigen::VectorXd::Constant(nv, std::numeric_limits<double>::infinity());
@@ -382,8 +391,10 @@ Model ModelBuilder::Build() const {
     }
     for (int k = 0; k < jnq; ++k) m.position_owner_[iq + k] = b;
   }
+}
 
-  // Frames and geometry.
+void ModelBuilder::FillFramesAndGeometry(Model* model) const {
+  Model& m = *model;
   m.frame_name_.clear();
   m.frame_body_.clear();
   m.X_BF_.clear();
@@ -399,8 +410,6 @@ Model ModelBuilder::Build() const {
   for (size_t g = 0; g < geometries_.size(); ++g) {
     m.geometry_index_[geometries_[g].name] = static_cast<GeometryIndex>(g);
   }
-  CheckMassMatrix(kWhere, m);
-  return m;
 }
 
 }  // namespace idto

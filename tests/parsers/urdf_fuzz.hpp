@@ -25,7 +25,7 @@ namespace testing_urdf_fuzz {
 
 inline std::vector<std::string> ShippedUrdfTexts() {
   std::vector<std::string> texts;
-  for (const std::string dir : {std::string(IDTO_SOURCE_DIR) + "/models",
+  for (const std::string& dir : {std::string(IDTO_SOURCE_DIR) + "/models",
                                 std::string(IDTO_TEST_DATA_DIR) + "/urdf/reference"}) {
     std::vector<std::filesystem::path> paths;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {

@@ -97,6 +97,9 @@ class ModelBuilder {
   };
 
   void CheckNewName(const char* where, const std::string& kind, const std::string& name) const;
+  // Parts of Build().
+  void FillJointVectors(Model* model) const;
+  void FillFramesAndGeometry(Model* model) const;
 
   std::string name_;
   std::vector<BodyEntry> bodies_;
