@@ -6,6 +6,8 @@
 #include <Eigen/Eigenvalues>
 
 #include "idto/core/errors.hpp"
+#include "idto/multibody/algorithms/dynamics.hpp"
+#include "idto/multibody/data.hpp"
 
 namespace idto {
 
@@ -64,6 +66,52 @@ void CheckInertia(const std::string& where, const std::string& body, const BodyI
 bool JointHasAxis(JointType t) {
   return t == JointType::kRevolute || t == JointType::kContinuous || t == JointType::kPrismatic ||
          t == JointType::kPlanar;
+}
+
+// Every moving body must carry mass (its own, welded or moving below it), and the joint-space
+// mass matrix at the neutral configuration must be positive definite. Point masses and massless
+// intermediate bodies pass when the bodies they carry give every DoF inertia.
+void CheckMassMatrix(const char* where, const Model& m) {
+  std::vector<double> subtree_mass(static_cast<size_t>(m.num_bodies()), 0.0);
+  for (BodyIndex b = m.num_bodies() - 1; b >= 1; --b) {
+    subtree_mass[b] += m.body_mass(b);
+    if (m.parent(b) >= 1) subtree_mass[m.parent(b)] += subtree_mass[b];
+  }
+  for (BodyIndex b : m.moving_bodies()) {
+    if (!(subtree_mass[b] > 0.0)) {
+      ThrowInvalidArgument(where, "mass of moving body " + Quoted(m.body_name(b)),
+                           FormatValue(subtree_mass[b]) + " (including the bodies it carries)",
+                           "a positive mass for a body on a non-fixed joint");
+    }
+  }
+  if (m.nv() == 0) return;
+  Data data(m);
+  const Eigen::MatrixXd M = MassMatrix(m, m.NeutralConfiguration(), &data);
+  auto joint_of = [&](int i) { return Quoted(m.velocity_name(i)); };
+  const Eigen::VectorXd d = M.diagonal();
+  const double largest = d.cwiseAbs().maxCoeff();
+  for (int i = 0; i < m.nv(); ++i) {
+    if (!(d(i) > 1e-12 * largest)) {
+      ThrowInvalidArgument(where, "mass matrix at the neutral configuration",
+                           "not positive definite: M(" + std::to_string(i) + ", " +
+                               std::to_string(i) + ") = " + FormatValue(d(i)) + " (joint " +
+                               joint_of(i) + ": what it moves has no inertia along this DoF)",
+                           "a positive-definite joint-space inertia (a point mass needs a lever "
+                           "arm; a free or planar body needs rotational inertia)");
+    }
+  }
+  const Eigen::VectorXd s = d.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd S = s.asDiagonal() * M * s.asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(S);
+  if (!(eig.eigenvalues()(0) > 1e-10)) {
+    Eigen::Index worst = 0;
+    eig.eigenvectors().col(0).cwiseAbs().maxCoeff(&worst);
+    ThrowInvalidArgument(where, "mass matrix at the neutral configuration",
+                         "not positive definite (smallest eigenvalue of the Jacobi-scaled matrix " +
+                             FormatValue(eig.eigenvalues()(0)) + ", mostly joint " +
+                             joint_of(static_cast<int>(worst)) + ")",
+                         "a positive-definite joint-space inertia");
+  }
 }
 
 }  // namespace
@@ -129,6 +177,10 @@ BodyIndex ModelBuilder::AddBody(const std::string& name, const BodyInertia& iner
   if (std::isnan(spec.effort_limit) || spec.effort_limit <= 0.0) {
     ThrowInvalidArgument(kWhere, "effort limit of joint " + Quoted(joint.name),
                          FormatValue(spec.effort_limit), "a positive number (or infinity)");
+  }
+  if (std::isnan(spec.velocity_limit) || spec.velocity_limit <= 0.0) {
+    ThrowInvalidArgument(kWhere, "velocity limit of joint " + Quoted(joint.name),
+                         FormatValue(spec.velocity_limit), "a positive number (or infinity)");
   }
   if (std::isnan(spec.lower_limit) || std::isnan(spec.upper_limit) ||
       spec.lower_limit > spec.upper_limit) {
@@ -302,29 +354,19 @@ Model ModelBuilder::Build() const {
     const SpatialInertia I_B = SpatialInertia::FromMassComInertia(I.mass, I.p_BBcm, I.I_BBcm_B);
     m.inertia_[mb] += I_B.ExpressedIn(m.X_MB_[b]);
   }
-  for (BodyIndex b : m.moving_bodies_) {
-    const SpatialInertia& I = m.inertia_[b];
-    if (!(I.mass > 0.0)) {
-      ThrowInvalidArgument(kWhere, "mass of moving body " + Quoted(m.body_name_[b]),
-                           FormatValue(I.mass) + " (including welded bodies)",
-                           "a positive mass for a body on a non-fixed joint");
-    }
-    const Eigen::Matrix3d Ic = I.InertiaAboutCom();
-    const double smallest =
-        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(Ic, Eigen::EigenvaluesOnly)
-            .eigenvalues()
-            .minCoeff();
-    if (!(smallest > 1e-12 * std::max(1.0, Ic.trace()))) {
-      ThrowInvalidArgument(
-          kWhere, "rotational inertia of moving body " + Quoted(m.body_name_[b]),
-          "not positive definite (smallest principal moment " + FormatValue(smallest) + ")",
-          "a positive-definite inertia for a body on a non-fixed joint");
-    }
-  }
+  FillJointVectors(&m);
+  FillFramesAndGeometry(&m);
+  CheckMassMatrix(kWhere, m);
+  return m;
+}
 
-  // Whole-model vectors.
+// Whole-model vectors per coordinate: damping, limits, base DoFs, owners.
+void ModelBuilder::FillJointVectors(Model* model) const {
+  Model& m = *model;
+  const int nq = m.nq_, nv = m.nv_;
   m.damping_ = Eigen::VectorXd::Zero(nv);
   m.effort_limits_ = Eigen::VectorXd::Constant(nv, std::numeric_limits<double>::infinity());
+  m.velocity_limits_ = Eigen::VectorXd::Constant(nv, std::numeric_limits<double>::infinity());
   m.lower_limits_ = Eigen::VectorXd::Constant(nq, -std::numeric_limits<double>::infinity());
   m.upper_limits_ = Eigen::VectorXd::Constant(nq, std::numeric_limits<double>::infinity());
   m.is_base_velocity_.assign(nv, false);
@@ -336,6 +378,7 @@ Model ModelBuilder::Build() const {
     const int jnv = JointNv(j.type), jnq = JointNq(j.type);
     m.damping_.segment(iv, jnv).setConstant(j.damping);
     m.effort_limits_.segment(iv, jnv).setConstant(j.effort_limit);
+    m.velocity_limits_.segment(iv, jnv).setConstant(j.velocity_limit);
     if (j.type == JointType::kRevolute || j.type == JointType::kPrismatic) {
       m.lower_limits_(iq) = j.lower_limit;
       m.upper_limits_(iq) = j.upper_limit;
@@ -348,8 +391,10 @@ Model ModelBuilder::Build() const {
     }
     for (int k = 0; k < jnq; ++k) m.position_owner_[iq + k] = b;
   }
+}
 
-  // Frames and geometry.
+void ModelBuilder::FillFramesAndGeometry(Model* model) const {
+  Model& m = *model;
   m.frame_name_.clear();
   m.frame_body_.clear();
   m.X_BF_.clear();
@@ -365,7 +410,6 @@ Model ModelBuilder::Build() const {
   for (size_t g = 0; g < geometries_.size(); ++g) {
     m.geometry_index_[geometries_[g].name] = static_cast<GeometryIndex>(g);
   }
-  return m;
 }
 
 }  // namespace idto

@@ -113,9 +113,18 @@ class Model {
   const Eigen::Vector3d& gravity() const { return gravity_; }
   /// Joint damping per velocity coordinate (nv).
   const Eigen::VectorXd& damping() const { return damping_; }
-  /// Effort limits per velocity coordinate (nv; infinity where none).
+  /// Joint limits, as given to ModelBuilder (JointSpec) or read from a URDF <limit>.
+  /// Lower position limits per position coordinate (nq): the lower limit of revolute and
+  /// prismatic joints, -infinity for every other coordinate and where none is given.
+  const Eigen::VectorXd& position_lower_limits() const { return lower_limits_; }
+  /// Upper position limits per position coordinate (nq; +infinity where none).
+  const Eigen::VectorXd& position_upper_limits() const { return upper_limits_; }
+  /// Velocity limits per velocity coordinate (nv; |v_i| <= limit; infinity where none). A joint's
+  /// limit applies to each of its DoFs.
+  const Eigen::VectorXd& velocity_limits() const { return velocity_limits_; }
+  /// Effort limits per velocity coordinate (nv; |tau_i| <= limit; infinity where none).
   const Eigen::VectorXd& effort_limits() const { return effort_limits_; }
-  /// Position limits per position coordinate (nq; -inf / +inf where none).
+  /// Older names of position_lower_limits() and position_upper_limits().
   const Eigen::VectorXd& lower_position_limits() const { return lower_limits_; }
   const Eigen::VectorXd& upper_position_limits() const { return upper_limits_; }
   /// True for the velocity coordinates of floating and planar joints attached to the world
@@ -193,6 +202,7 @@ class Model {
   Eigen::Vector3d gravity_{0.0, 0.0, -9.81};
   Eigen::VectorXd damping_;
   Eigen::VectorXd effort_limits_;
+  Eigen::VectorXd velocity_limits_;
   Eigen::VectorXd lower_limits_;
   Eigen::VectorXd upper_limits_;
   std::vector<bool> is_base_velocity_;

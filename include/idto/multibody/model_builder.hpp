@@ -24,8 +24,12 @@ struct JointSpec {
   Eigen::Isometry3d X_PJ{Eigen::Isometry3d::Identity()};  ///< joint frame J in the parent P
   Eigen::Vector3d axis{Eigen::Vector3d::UnitZ()};         ///< in J; normalized by the builder
   double damping{0.0};                                    ///< N·m·s/rad or N·s/m, every DoF
+  /// Effort limit (N·m or N), every DoF of the joint; infinity = none.
   double effort_limit{std::numeric_limits<double>::infinity()};
-  double lower_limit{-std::numeric_limits<double>::infinity()};  ///< 1-DoF joints only
+  /// Velocity limit (rad/s or m/s), every DoF of the joint; infinity = none.
+  double velocity_limit{std::numeric_limits<double>::infinity()};
+  /// Position limits (rad or m) of revolute and prismatic joints; ±infinity = none.
+  double lower_limit{-std::numeric_limits<double>::infinity()};
   double upper_limit{std::numeric_limits<double>::infinity()};
 };
 
@@ -43,9 +47,12 @@ class ModelBuilder {
 
   /// Adds a body attached to `parent` by `joint`. Throws InvalidArgument (naming the body and
   /// the value) on a duplicate body or joint name, an unknown parent, a non-finite pose, a zero
-  /// axis, negative damping, or mass properties that are not physical (negative mass, inertia
-  /// not symmetric positive semi-definite or violating the triangle inequality). A moving body
-  /// must have positive mass unless a welded descendant gives it mass (checked by Build()).
+  /// axis, negative damping, limits that are NaN, non-positive (effort, velocity) or inverted
+  /// (lower > upper), or mass properties that are not physical (negative mass, inertia not
+  /// symmetric positive semi-definite or violating the triangle inequality). The limits are
+  /// set here, through `joint` (JointSpec::lower_limit, upper_limit, velocity_limit,
+  /// effort_limit). A body may be a point mass (zero rotational inertia) or even massless, as
+  /// long as the model's joint-space mass matrix is positive definite (checked by Build()).
   BodyIndex AddBody(const std::string& name, const BodyInertia& inertia, BodyIndex parent,
                     const JointSpec& joint);
 
@@ -68,8 +75,12 @@ class ModelBuilder {
   BodyIndex GetBodyIndex(const std::string& name) const;
   bool HasBody(const std::string& name) const;
 
-  /// Validates (every moving body, after merging welded descendants, has positive mass and a
-  /// positive-definite rotational inertia) and returns the model. The builder stays usable.
+  /// Validates and returns the model; the builder stays usable. Every moving body must carry
+  /// mass (itself, or the bodies welded to it or moving below it), and the joint-space mass
+  /// matrix M(q) at the neutral configuration must be positive definite: point masses (a
+  /// pendulum bob) and massless intermediate bodies are fine when the bodies they carry give
+  /// every DoF inertia, a point mass on a free joint or on its own rotation axis is not. Throws
+  /// InvalidArgument naming the body or joint otherwise.
   Model Build() const;
 
  private:
@@ -86,6 +97,9 @@ class ModelBuilder {
   };
 
   void CheckNewName(const char* where, const std::string& kind, const std::string& name) const;
+  // Parts of Build().
+  void FillJointVectors(Model* model) const;
+  void FillFramesAndGeometry(Model* model) const;
 
   std::string name_;
   std::vector<BodyEntry> bodies_;

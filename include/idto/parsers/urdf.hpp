@@ -4,7 +4,7 @@
 /// URDF -> Model through urdfdom (urdfdom stays out of public headers), and scenes made of
 /// several URDF models merged into one Model.
 ///
-/// Conventions:
+/// What is read, what is refused and why: docs/urdf.md. In short:
 ///  - Every URDF link becomes a body, added in depth-first order from the root; the children of a
 ///    link follow the document order of their joints. This is the order of the joints in q and v.
 ///    The body frame of a link is the URDF link frame: JointSpec::X_PJ is the joint's <origin>,
@@ -12,38 +12,48 @@
 ///  - Joint types: revolute, continuous (one unbounded angle), prismatic, fixed (the child is
 ///    merged into its parent for dynamics but keeps its body, frame and geometry), floating
 ///    (JointType::kFloating) and planar (JointType::kPlanar, <axis> is the plane normal).
-///  - <dynamics damping> gives the joint damping; <limit effort> the effort limit (effort="0"
-///    means none); <limit lower/upper> the position limits of revolute and prismatic joints (a
-///    <limit> without lower and upper leaves the joint unbounded). Velocity limits, friction,
-///    <mimic>, <safety_controller>, <calibration>, <transmission> and visuals are ignored.
+///  - <dynamics damping> gives the joint damping. <limit lower upper velocity effort> gives the
+///    joint limits (Model::position_lower_limits(), position_upper_limits(), velocity_limits(),
+///    effort_limits()); an absent <limit> or attribute means no limit (a revolute joint without
+///    <limit> is unbounded, with unlimited effort), and velocity="0" or effort="0" mean none.
 ///  - <inertial>: mass, centre of mass (<origin xyz>) and the inertia tensor given in the frame
-///    rotated by <origin rpy>: I_BBcm_B = R I R^T. A link without <inertial> has no mass, which is
-///    fine when it is welded to (or carries a welded child with) mass, or welded to the world.
-///  - Collision: <sphere>, <box> (full sizes) and <cylinder> (along z, full `length`) become
-///    Sphere, Box and Cylinder with X_BG = the collision <origin>; meshes are skipped. A
-///    geometry is named after its <collision name="...">, or "<link>_collision_<i>" with i the
-///    position of the <collision> element in its link (counting skipped meshes); repeated names
-///    get "_1", "_2", ... appended. With UrdfOptions::box_inscribed_spheres, each box is
-///    replaced by its inscribed spheres, named "<geometry>_sphere<i>".
+///    rotated by <origin rpy>: I_BBcm_B = R I R^T. A link without <inertial> has no mass. Point
+///    masses (zero rotational inertia) and massless links are accepted when the model's
+///    joint-space mass matrix is positive definite (ModelBuilder::Build()).
+///  - Collision: <sphere>, <box> (full sizes), <cylinder> and <capsule> / <drake:capsule> (both
+///    along z, full `length` between the cap centres for the capsule) become Sphere, Box,
+///    Cylinder and Capsule with X_BG = the collision <origin>. A geometry is named after its
+///    <collision name="...">, or "<link>_collision_<i>" with i the position of the <collision>
+///    element in its link; repeated names get "_1", "_2", ... appended. With
+///    UrdfOptions::box_inscribed_spheres, each box is replaced by its inscribed spheres, named
+///    "<geometry>_sphere<i>".
+///  - Nothing is silently dropped: an element idto cannot represent (a <mesh> or unknown shape,
+///    an unknown element, <mimic>) is a FileError naming the file, the link or joint and the
+///    element. Visual geometry is read and checked but not kept; an unsupported visual element
+///    (a visual <mesh>) is an error too unless UrdfOptions::unsupported_visuals_as_warnings is
+///    set. Elements ignored by design (<transmission>, <gazebo>, <safety_controller>,
+///    <calibration>, <dynamics friction>, <drake:proximity_properties>, mass on a link welded to
+///    the world) give a UrdfWarning.
 ///  - Every body, joint, frame and geometry name gets UrdfOptions::prefix prepended.
 ///  - The root link is attached to the world as UrdfOptions says, by a joint named
 ///    prefix + root link + "_root_joint" (for example "ball_root_joint"). A root link named
-///    "world" (without mass) instead stands for the world itself: its child joints attach to the
-///    world body (their <origin> composed with X_WB), its collision geometry goes to the world,
-///    and UrdfOptions::base is not used; with a non-empty prefix a frame prefix + "world" marks
-///    X_WB on the world body.
+///    "world" instead stands for the world itself: its child joints attach to the world body
+///    (their <origin> composed with X_WB), its collision geometry goes to the world, and
+///    UrdfOptions::base is not used; with a non-empty prefix a frame prefix + "world" marks X_WB
+///    on the world body. Joints may name a parent link "world" that the file does not declare
+///    (the implicit world of many URDFs); mass on a world link is ignored with a warning.
 ///
-/// Errors are FileError naming the file (or `source_name`) and the element, e.g.
-/// "arm.urdf: joint 'elbow': <axis xyz> is (0, 0, 0); expected a non-zero finite vector".
-/// urdfdom's own messages (which it reports through console_bridge) are captured during the parse
-/// and forwarded in the message rather than printed. Options that are not valid (a zero planar
-/// normal, a non-finite X_WB, a null builder) throw InvalidArgument.
+/// Errors are FileError naming the file (or `source_name`), the element, and the value found,
+/// e.g. "arm.urdf: joint 'elbow': <axis xyz> is (0, 0, 0); expected a non-zero finite vector" or
+/// "arm.urdf: link 'foot': <mass value> is \"1O\"; expected a number". Elements nested deeper than
+/// kMaxUrdfDepth are refused before parsing. Options that are not valid (a zero planar normal, a
+/// non-finite X_WB, a null builder) throw InvalidArgument.
 ///
-/// Thread safety: the functions may be called from several threads; the urdfdom part of a parse
-/// is serialized (console_bridge's output handler is global).
+/// Thread safety: the functions may be called from several threads.
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -55,6 +65,19 @@
 #include "idto/multibody/model_builder.hpp"
 
 namespace idto {
+
+/// Elements may be nested at most this deep in a URDF document (a URDF needs about 5).
+constexpr int kMaxUrdfDepth = 256;
+
+/// Something in a URDF that idto did not use: ignored by design, or an unsupported visual-only
+/// element downgraded by UrdfOptions::unsupported_visuals_as_warnings.
+struct UrdfWarning {
+  std::string file;     ///< the file (or source name)
+  std::string element;  ///< e.g. "link 'foot'" or "joint 'knee'"
+  std::string message;  ///< what was found and what idto does with it
+  /// "file: element: message".
+  std::string ToString() const { return file + ": " + element + ": " + message; }
+};
 
 /// How a URDF model is attached to the world.
 struct UrdfOptions {
@@ -79,27 +102,40 @@ struct UrdfOptions {
   /// order InscribedSpheres returns them (the centre sphere last). Invalid options
   /// (num_per_axis < 2 or > 100, radius_fraction outside (0, 0.5]) throw InvalidArgument.
   std::optional<InscribedSpheresOptions> box_inscribed_spheres;
+  /// By default a visual element idto cannot read (a <visual> <mesh>, an unknown shape or an
+  /// unknown element inside <visual>) is an error like any other. When set, such visual-only
+  /// elements give a UrdfWarning (naming file, link and element) instead; the warnings are
+  /// collected in the `warnings` argument of the parse functions, which must then be given
+  /// (InvalidArgument otherwise). Collision and inertial elements are never downgraded.
+  bool unsupported_visuals_as_warnings{false};
 };
 
-/// Parses a URDF file into a Model. Throws FileError naming the file and the element (link or
-/// joint) on a missing file, malformed XML, an unknown joint type, zero or negative mass or a
-/// non-positive-definite inertia on a moving body, a zero joint axis, duplicate names, and a
-/// model with no root or several roots.
-Model ParseUrdfFile(const std::string& path, const UrdfOptions& options = {});
+/// Parses a URDF file into a Model. Throws FileError naming the file, the element (link or
+/// joint) and the value found on a missing file, malformed or too deeply nested XML, a number
+/// that does not parse, an unknown joint type, an unsupported element (see above), a negative or
+/// non-finite mass, an inertia that is not physical, a singular joint-space mass matrix, a zero
+/// joint axis, inverted limits, duplicate names, and a model with no root or several roots.
+/// Warnings (see UrdfWarning) are appended to `warnings` when it is not null.
+Model ParseUrdfFile(const std::string& path, const UrdfOptions& options = {},
+                    std::vector<UrdfWarning>* warnings = nullptr);
 
 /// As ParseUrdfFile, from URDF text; `source_name` stands for the file name in error messages.
 Model ParseUrdfString(const std::string& urdf_xml, const UrdfOptions& options = {},
-                      const std::string& source_name = "<urdf string>");
+                      const std::string& source_name = "<urdf string>",
+                      std::vector<UrdfWarning>* warnings = nullptr);
 
 /// Adds the model of a URDF file to `builder` (scenes: call once per model, each with its own
 /// prefix). Returns the index of the root body (kWorldBody for a "world" root). Errors as
 /// ParseUrdfFile; the file is checked completely before the builder is touched, but a name
 /// already used in the builder by another model is only found while adding, and the builder
 /// then keeps the bodies added so far.
-BodyIndex AddUrdfFile(const std::string& path, const UrdfOptions& options, ModelBuilder* builder);
+/// Warnings are appended to `warnings` when it is not null.
+BodyIndex AddUrdfFile(const std::string& path, const UrdfOptions& options, ModelBuilder* builder,
+                      std::vector<UrdfWarning>* warnings = nullptr);
 
 /// As AddUrdfFile, from URDF text.
 BodyIndex AddUrdfString(const std::string& urdf_xml, const UrdfOptions& options,
-                        ModelBuilder* builder, const std::string& source_name = "<urdf string>");
+                        ModelBuilder* builder, const std::string& source_name = "<urdf string>",
+                        std::vector<UrdfWarning>* warnings = nullptr);
 
 }  // namespace idto
