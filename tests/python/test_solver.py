@@ -265,3 +265,12 @@ def test_bit_equal_to_idto_run(tmp_path, example, iterations):
     assert traj.v[-1].tolist() == ref["v_final"]
     assert summary.final_cost == ref["final_cost"]
     assert [it.cost for it in summary.log] == [it["cost"] for it in ref["log"]]
+
+
+def test_readme_example_runs(capsys):
+    with open(os.path.join(ROOT, "README.md")) as f:
+        readme = f.read()
+    code = readme.split("```python\n", 1)[1].split("```", 1)[0]
+    assert len(code.strip().splitlines()) <= 10
+    exec(compile(code, "README.md", "exec"), {})
+    assert "idto:" in capsys.readouterr().out
