@@ -10,9 +10,11 @@ alike:
   C++:    idto._testing.time_warm_start(opt, block): SolveWarmStart timed in a C++ loop;
   Python: summary, traj = opt.solve_warm_start(); traj.q  (GIL release, signal check,
           conversion of the summary and the trajectory to Python objects), timed with
-          time.perf_counter().
-Prints the median and minimum time per call of each path, their ratios, and the median of the
-per-pair ratios (a Python call over the C++ call just before it).
+          time.perf_counter() and time.thread_time().
+Prints, for wall-clock time and for the calling thread's CPU time (with one thread the solve
+runs on the calling thread; CPU time is what a loaded, shared machine distorts least), the
+median and minimum time per call of each path, their ratios, and the median of the per-pair
+ratios (a Python call over the C++ call just before it).
 """
 
 import argparse
@@ -25,6 +27,7 @@ import idto
 
 
 def measure(example, rounds, block, warmup_iterations):
+    """Lists of (wall, thread CPU) seconds per call: C++ and Python."""
     ex = idto.load_example(example)
     opts = ex.solver_options
     opts.num_threads = 1
@@ -37,12 +40,26 @@ def measure(example, rounds, block, warmup_iterations):
     for _ in range(rounds):
         cpp.extend(idto._testing.time_warm_start(opt, block))
         for _ in range(block):
-            start = time.perf_counter()
+            start, start_cpu = time.perf_counter(), time.thread_time()
             summary, traj = opt.solve_warm_start()
             traj.q
-            python.append(time.perf_counter() - start)
+            python.append((time.perf_counter() - start, time.thread_time() - start_cpu))
     assert summary.iterations == 1
     return cpp, python
+
+
+def summarize(cpp, python):
+    med_c, med_p = statistics.median(cpp), statistics.median(python)
+    return {
+        "cpp_median_ms": 1e3 * med_c,
+        "python_median_ms": 1e3 * med_p,
+        "cpp_min_ms": 1e3 * min(cpp),
+        "python_min_ms": 1e3 * min(python),
+        "ratio_median": med_p / med_c,
+        "ratio_min": min(python) / min(cpp),
+        "ratio_pairs_median": statistics.median(p / c for c, p in zip(cpp, python)),
+        "overhead_median_us": 1e6 * (med_p - med_c),
+    }
 
 
 def main(argv=None):
@@ -54,31 +71,20 @@ def main(argv=None):
     parser.add_argument("--json", action="store_true", help="print the result as JSON")
     args = parser.parse_args(argv)
     cpp, python = measure(args.example, args.rounds, args.block, args.warmup_iterations)
-    result = {
-        "example": args.example,
-        "calls_each": len(cpp),
-        "cpp_median_ms": 1e3 * statistics.median(cpp),
-        "python_median_ms": 1e3 * statistics.median(python),
-        "cpp_mean_ms": 1e3 * statistics.fmean(cpp),
-        "python_mean_ms": 1e3 * statistics.fmean(python),
-    }
-    result["cpp_min_ms"] = 1e3 * min(cpp)
-    result["python_min_ms"] = 1e3 * min(python)
-    result["ratio_median"] = result["python_median_ms"] / result["cpp_median_ms"]
-    result["ratio_min"] = result["python_min_ms"] / result["cpp_min_ms"]
-    result["ratio_pairs_median"] = statistics.median(p / c for p, c in zip(python, cpp))
-    result["overhead_median_us"] = 1e3 * (result["python_median_ms"] - result["cpp_median_ms"])
+    result = {"example": args.example, "calls_each": len(cpp)}
+    for clock, index in (("wall", 0), ("cpu", 1)):
+        result[clock] = summarize([x[index] for x in cpp], [x[index] for x in python])
     if args.json:
         print(json.dumps(result))
-    else:
-        print(f"{args.example}: one warm-start iteration, {len(cpp)} calls each, alternated")
-        print(f"  C++    median {result['cpp_median_ms']:.4f} ms (mean {result['cpp_mean_ms']:.4f})")
-        print(f"  Python median {result['python_median_ms']:.4f} ms "
-              f"(mean {result['python_mean_ms']:.4f})")
-        print(f"  C++    min {result['cpp_min_ms']:.4f} ms, Python min {result['python_min_ms']:.4f} ms")
-        print(f"  Python / C++: medians {result['ratio_median']:.4f} "
-              f"({result['overhead_median_us']:+.1f} us per call), minimums "
-              f"{result['ratio_min']:.4f}, median of pair ratios {result['ratio_pairs_median']:.4f}")
+        return 0
+    print(f"{args.example}: one warm-start iteration, {len(cpp)} calls each, alternated")
+    for clock, title in (("wall", "wall-clock"), ("cpu", "thread CPU time")):
+        r = result[clock]
+        print(f"  {title}: C++ median {r['cpp_median_ms']:.4f} ms (min {r['cpp_min_ms']:.4f}), "
+              f"Python median {r['python_median_ms']:.4f} ms (min {r['python_min_ms']:.4f})")
+        print(f"    Python / C++: medians {r['ratio_median']:.4f} "
+              f"({r['overhead_median_us']:+.1f} us per call), minimums {r['ratio_min']:.4f}, "
+              f"median of pair ratios {r['ratio_pairs_median']:.4f}")
     return 0
 
 
