@@ -274,3 +274,19 @@ def test_readme_example_runs(capsys):
     assert len(code.strip().splitlines()) <= 10
     exec(compile(code, "README.md", "exec"), {})
     assert "idto:" in capsys.readouterr().out
+
+
+def test_overhead_benchmark_runs(capsys):
+    import importlib.util
+    path = os.path.join(ROOT, "benchmarks", "python", "overhead.py")
+    spec = importlib.util.spec_from_file_location("overhead", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.main(["--example", "pendulum", "--rounds", "3", "--json"]) == 0
+    result = json.loads(capsys.readouterr().out)
+    assert result["calls_each"] == 3 and result["cpu"]["cpp_median_ms"] > 0
+    ex = idto.load_example("pendulum")
+    opt = idto.TrajectoryOptimizer(ex.model, ex.problem, short_options(ex, 2))
+    opt.solve(ex.initial_guess())
+    times = idto._testing.time_warm_start(opt, 2)
+    assert len(times) == 2 and all(wall >= 0 and cpu >= 0 for wall, cpu in times)
