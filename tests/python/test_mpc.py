@@ -1,0 +1,138 @@
+"""MPC controller, plants and closed loops (from C++ and written in Python)."""
+
+import importlib.util
+import os
+
+import numpy as np
+import pytest
+
+import idto
+from conftest import ROOT
+
+
+def test_mpc_options_and_pd():
+    o = idto.MpcOptions()
+    o.control_rate, o.iterations_per_step = 50.0, 2
+    o.relative_positions = [2]
+    lead = idto.OrientationLead()
+    lead.position_start, lead.max_angle = 0, 0.3
+    o.orientation_leads = [lead]
+    g = idto.PdGains()
+    g.Kp, g.Kd = [1.0, 2.0, 0.0], np.array([0.1, 0.2, 0.0])
+    o.gains = g
+    o.actuated = [0, 1]
+    assert o.gains.Kp.tolist() == [1, 2, 0] and o.orientation_leads[0].max_angle == 0.3
+    assert o.relative_positions == [2] and o.actuated == [0, 1] and o.control_rate == 50.0
+
+
+def test_controller_and_plan(spinner):
+    ex = spinner
+    model = ex.model
+    ctl = idto.Controller(model, ex.mpc_problem, ex.mpc_solver_options, ex.mpc.controller)
+    first = ctl.initialize(ex.controller_initial_guess(), 5)
+    assert first.iterations == 5
+    plan = ctl.plan
+    assert isinstance(plan, idto.Plan) and plan.q.shape == (41, 3) and plan.tau.shape == (41, 3)
+    assert plan.start_time == 0.0 and plan.time_step == ex.problem.time_step
+    q_d, v_d, u_ff = plan.sample(model, 0.01)
+    assert q_d.shape == (3,) and v_d.shape == (3,) and u_ff.shape == (3,)
+    q = ex.problem.q_init
+    s = ctl.replan(0.005, q, np.zeros(3))
+    assert s.iterations == 1 and ctl.plan.start_time == 0.005
+    assert ctl.last_warm_start().shape == (41, 3) and ctl.num_rejected_plans() == 0
+    u = ctl.control(0.006, q, np.zeros(3))
+    assert u.shape == (3,) and u[2] == 0.0
+    assert ctl.options.actuated == [0, 1] and ctl.optimizer.model.nq() == 3
+    pd = idto.PdController(model, ctl.options.actuated, ctl.options.gains)
+    assert pd.actuated() == [0, 1]
+    q_d, v_d, u_ff = ctl.plan.sample(model, 0.006)
+    np.testing.assert_array_equal(pd.compute(q, np.zeros(3), q_d, v_d, u_ff), u)
+    seen = []
+    ctl.optimizer.add_callback(lambda it: seen.append(it.iteration))
+    ctl.replan(0.010, q, np.zeros(3))
+    assert seen == [0]
+    with pytest.raises(ValueError, match=r"q_hat is an array of shape \(2,\)"):
+        ctl.replan(0.015, np.zeros(2), np.zeros(3))
+    with pytest.raises(ValueError, match="q_guess"):
+        ctl.initialize(np.zeros((3, 3)), 1)
+
+
+def test_plants(spinner):
+    model = spinner.model
+    opts = idto.BuiltinPlantOptions()
+    opts.time_step = 1e-3
+    opts.contact.stiffness = 2e4
+    opts.pairs = spinner.problem.contact
+    opts.implicit_contact = True
+    plant = idto.make_builtin_plant(model, opts)
+    assert plant.name == "builtin" and plant.time == 0.0
+    plant.reset(spinner.problem.q_init, np.zeros(3))
+    plant.set_extra_damping(np.zeros(3))
+    plant.advance(0.01, np.array([0.1, 0.0, 0.0]))
+    assert plant.time == pytest.approx(0.01) and plant.q.shape == (3,) and plant.v[0] > 0
+    assert plant.contact_force_per_body.shape == (model.num_bodies(),)
+    plant.advance(0.001, np.zeros(3), 1, [0.0, 0.0, 1.0])
+    with pytest.raises(ValueError, match=r"u is an array of shape \(2,\)"):
+        plant.advance(0.01, np.zeros(2))
+    with pytest.raises(ValueError):
+        plant.advance(-1.0, np.zeros(3))
+    mj = idto.MujocoPlantOptions()
+    mj.time_step, mj.friction_coefficient = 1e-3, 0.5
+    mj.torsional_friction, mj.rolling_friction = 0.0, 0.0
+    mj.pairs = spinner.problem.contact
+    assert "<mujoco" in idto.make_mujoco_plant_mjcf(model, mj)
+    if idto.have_mujoco():
+        p = idto.make_mujoco_plant(model, mj)
+        assert p.name == "mujoco"
+        p.reset(spinner.problem.q_init, np.zeros(3))
+        p.advance(0.01, np.zeros(3))
+        assert p.time == pytest.approx(0.01)
+    else:
+        with pytest.raises(RuntimeError):
+            idto.make_mujoco_plant(model, mj)
+
+
+def test_run_closed_loop_from_cpp(spinner):
+    ex = spinner
+    ctl = idto.Controller(ex.model, ex.mpc_problem, ex.mpc_solver_options, ex.mpc.controller)
+    ctl.initialize(ex.controller_initial_guess(), 20)
+    plant = ex.make_plant()
+    options = ex.mpc.closed_loop
+    options.duration = 0.2
+    options.latency = idto.LatencyModel.kFixed
+    options.fixed_latency = 0.005
+    d = idto.Disturbance()
+    d.body, d.start, d.duration, d.force_W = 1, 0.0, 0.01, [0.0, 0.0, 0.0]
+    options.disturbances = [d]
+    options.implicit_damping, options.log_every = True, 10
+    options.plant_time_step = 1e-3
+    log = idto.run_closed_loop(ex.model, options, ctl, plant)
+    assert log.t.shape == (20,) and log.q.shape == (20, 3) and log.u.shape == (20, 3)
+    assert log.v.shape == (20, 3) and log.contact.shape[0] == 20
+    assert log.replan_time.shape == log.solve_time.shape and len(log.solve_status) == 39
+    assert log.failure == "" and log.failure_time == -1.0 and log.num_rejected_plans == 0
+    assert log.control_period == pytest.approx(0.005)
+    assert 0 < log.mean_solve_time() <= log.max_solve_time()
+    assert log.percentile_solve_time(95) <= log.max_solve_time()
+    assert 0.0 <= log.fraction_on_time() <= 1.0
+    assert log.to_csv(ex.model).startswith("t,")
+
+
+def test_closed_loop_written_in_python_achieves_the_spinner_task():
+    path = os.path.join(ROOT, "examples", "python", "mpc_spinner.py")
+    spec = importlib.util.spec_from_file_location("mpc_spinner", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    result = module.run(verbose=False)
+    assert result["replans"] == 999
+    assert result["task_success"], result
+
+
+def test_open_loop_example_runs(capsys):
+    path = os.path.join(ROOT, "examples", "python", "solve_open_loop.py")
+    spec = importlib.util.spec_from_file_location("solve_open_loop", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert module.main(["spinner", "--max-iterations", "5"]) == 0
+    out = capsys.readouterr().out
+    assert "termination: max_iterations" in out and "finger_shoulder" in out
