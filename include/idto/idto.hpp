@@ -45,3 +45,5 @@
 #include "idto/mpc/closed_loop.hpp"
 // example configuration files (YAML): builds models, problems and solver options
 #include "idto/parsers/config.hpp"
+// viewer (top of the stack): self-contained HTML animation pages
+#include "idto/viz/html_animation.hpp"
