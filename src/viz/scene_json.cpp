@@ -254,6 +254,32 @@ void AppendBodies(const Model& model, const std::vector<int>& model_of, const Fr
   out->push_back(']');
 }
 
+// Bones: a segment from each body's origin to the origins of its children (joints other than
+// floating and planar ones) and of its shapes, fixed in the body: the links of a model show even
+// where they have no collision geometry.
+void AppendBones(const Model& model, NumberWriter* w, std::string* out) {
+  out->append(",\"bones\":[");
+  bool first = true;
+  const auto bone = [&](BodyIndex body, const Eigen::Vector3d& to) {
+    if (body == kWorldBody || to.norm() < 1e-6) return;
+    out->append(first ? "" : ",").append("{\"body\":").append(std::to_string(body));
+    out->append(",\"to\":");
+    w->Array(to.data(), 3);
+    out->push_back('}');
+    first = false;
+  };
+  for (BodyIndex b = 1; b < model.num_bodies(); ++b) {
+    const JointType type = model.joint_type(b);
+    if (type != JointType::kFloating && type != JointType::kPlanar) {
+      bone(model.parent(b), model.joint_frame_in_parent(b).translation());
+    }
+  }
+  for (const GeometryInstance& g : model.geometries()) {
+    if (!std::holds_alternative<HalfSpace>(g.shape)) bone(g.body, g.X_BG.translation());
+  }
+  out->push_back(']');
+}
+
 void AppendFrames(const std::vector<AnimationFrame>& frames, const std::vector<int>& selected,
                   const FrameData& fd, NumberWriter* w, std::string* out) {
   out->append(",\"times\":[");
@@ -343,6 +369,7 @@ std::string MakeSceneJson(const Model& model, const std::vector<AnimationFrame>&
   }
   out.append("]");
   AppendBodies(model, model_of, fd, &w, &out);
+  AppendBones(model, &w, &out);
   // The scene's extent, for the camera, the grid and the force scale.
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   double radius = 1.0;

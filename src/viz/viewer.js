@@ -5,6 +5,8 @@
 //   title, models: [{name, color}], bodies: [{name, model, pose: [p, q]}] (index = body index;
 //   the pose is the first frame's, constant for the bodies not in `animated`),
 //   animated: [body index], geometries: [{name, body, type, radius, length, size, pose, color}],
+//   bones: [{body, to: [x, y, z] in the body}] (rods from the body origin to its children's
+//   joints and its shapes' origins),
 //   center, radius (extent of the scene), force_scale (m/N), max_force, has_contact_model,
 //   speed, show: {forces, ghost, frames},
 //   times: [t_k], poses: [[7 per animated body] per frame], ghost: [[7 per animated body, or
@@ -180,6 +182,33 @@
     }
     body_groups[g.body].add(makeShape(g, material(g.color)));
     if (ghost_groups[g.body]) ghost_groups[g.body].add(makeShape(g, ghostMaterial(g.color)));
+  });
+
+  // Bones (links drawn as thin rods from the body origin) and joint markers, model coloured.
+  var bone_geometry = new THREE.CylinderBufferGeometry(1, 1, 1, 8);
+  bone_geometry.translate(0, 0.5, 0);
+  var bone_radius = 0.006 * R;
+  var joint_geometry = new THREE.SphereBufferGeometry(1.8 * bone_radius, 12, 8);
+  var has_joint_marker = {};
+  function modelColor(b) {
+    var m = S.bodies[b].model;
+    return m >= 0 ? S.models[m].color : '#8c8c8c';
+  }
+  function addBone(group, to, mat, b) {
+    var bone = new THREE.Mesh(bone_geometry, mat);
+    var v = new THREE.Vector3().fromArray(to);
+    bone.scale.set(bone_radius, v.length(), bone_radius);
+    bone.quaternion.setFromUnitVectors(Y_AXIS, v.clone().normalize());
+    group.add(bone);
+    if (b !== undefined && !has_joint_marker[b]) {
+      group.add(new THREE.Mesh(joint_geometry, mat));
+      has_joint_marker[b] = true;
+    }
+  }
+  S.bones.forEach(function (bone) {
+    var color = modelColor(bone.body);
+    addBone(body_groups[bone.body], bone.to, material(color), bone.body);
+    if (ghost_groups[bone.body]) addBone(ghost_groups[bone.body], bone.to, ghostMaterial(color));
   });
 
   // ---------------------------------------------------------------- contact forces
@@ -466,9 +495,10 @@
   // The test driver (#idto-test=<JSON>): {times: [t...], bodies: [name...], benchmark: n}.
   // For each time: the time label, positions of the named bodies and their ghosts, the number
   // of contacts drawn, and pixel statistics of the canvas (luminance mean and variance, the
-  // number of pixels that differ from the first sample's); then the mean milliseconds to move
-  // the scene to a time and to also render it, over n frames; the resources the page loaded and
-  // the errors it caught.
+  // number of pixels that differ from the first sample's); then the mean milliseconds, over n
+  // frames, to move the scene to a time (ms_per_update), to also issue its rendering (the page's
+  // main-thread work, ms_per_submit) and to also wait for the pixels (ms_per_frame), with the
+  // draw calls and triangles of a frame; the resources the page loaded and the errors it caught.
   window.idtoRunTests = function (cmd) {
     var gl = renderer.getContext();
     var w = gl.drawingBufferWidth;
@@ -506,6 +536,14 @@
       var start = performance.now();
       for (var u = 0; u < cmd.benchmark; ++u) setTime(T0 + (T1 - T0) * u / cmd.benchmark);
       report.ms_per_update = (performance.now() - start) / cmd.benchmark;
+      start = performance.now();
+      for (var r = 0; r < cmd.benchmark; ++r) {
+        setTime(T0 + (T1 - T0) * r / cmd.benchmark);
+        render();
+      }
+      report.ms_per_submit = (performance.now() - start) / cmd.benchmark;
+      report.draw_calls = renderer.info.render.calls;
+      report.triangles = renderer.info.render.triangles;
       start = performance.now();
       for (var k = 0; k < cmd.benchmark; ++k) {
         setTime(T0 + (T1 - T0) * k / cmd.benchmark);
