@@ -124,8 +124,7 @@ std::string HtmlEscape(const std::string& text) {
 
 // Replaces the first occurrence of `marker` at or after *at in *page by `text`; *at moves past
 // the inserted text (so that inserted text is never searched for later markers).
-void Fill(const std::string& marker, const std::string& text, std::string* page,
-          std::size_t* at) {
+void Fill(const std::string& marker, const std::string& text, std::string* page, std::size_t* at) {
   const std::size_t found = page->find(marker, *at);
   if (found == std::string::npos) return;
   page->replace(found, marker.size(), text);
@@ -158,10 +157,10 @@ std::vector<AnimationFrame> MakeAnimationFrames(const std::vector<Eigen::VectorX
 std::vector<AnimationFrame> MakeAnimationFrames(const mpc::ClosedLoopLog& log) {
   static constexpr const char* kFramesWhere = "MakeAnimationFrames";
   if (log.q.size() != log.t.size() || (!log.v.empty() && log.v.size() != log.t.size())) {
-    ThrowInvalidArgument(kFramesWhere, "log.q / log.v",
-                         "of lengths " + std::to_string(log.q.size()) + " / " +
-                             std::to_string(log.v.size()),
-                         "the length of log.t, " + std::to_string(log.t.size()));
+    ThrowInvalidArgument(
+        kFramesWhere, "log.q / log.v",
+        "of lengths " + std::to_string(log.q.size()) + " / " + std::to_string(log.v.size()),
+        "the length of log.t, " + std::to_string(log.t.size()));
   }
   const bool ghost = log.q_plan.size() == log.t.size();
   std::vector<AnimationFrame> frames(log.t.size());
@@ -207,8 +206,8 @@ void CheckHtmlAnimationPath(const std::string& path) {
     ThrowFileError(path, "", "cannot write the viewer page: no folder " + folder.string());
   }
   if (::access(folder.c_str(), W_OK) != 0) {
-    ThrowFileError(path, "", "cannot write the viewer page: folder " + folder.string() +
-                                 " is not writable");
+    ThrowFileError(path, "",
+                   "cannot write the viewer page: folder " + folder.string() + " is not writable");
   }
   if (fs::is_directory(target, ec)) {
     ThrowFileError(path, "", "cannot write the viewer page: it is a folder");
@@ -226,8 +225,8 @@ void WriteHtmlAnimation(const Model& model, const std::vector<AnimationFrame>& f
   std::string temp = (folder / ("." + target.filename().string() + ".tmp-XXXXXX")).string();
   const int fd = mkstemp(temp.data());
   if (fd < 0) {
-    ThrowFileError(path, "", std::string("WriteHtmlAnimation: cannot write path: ") +
-                                 std::strerror(errno));
+    ThrowFileError(path, "",
+                   std::string("WriteHtmlAnimation: cannot write path: ") + std::strerror(errno));
   }
   std::size_t written = 0;
   while (written < page.size()) {
@@ -240,8 +239,9 @@ void WriteHtmlAnimation(const Model& model, const std::vector<AnimationFrame>& f
   const bool ok = written == page.size() && ::fchmod(fd, 0644) == 0;
   if (::close(fd) != 0 || !ok) {
     std::remove(temp.c_str());
-    ThrowFileError(path, "", std::string("WriteHtmlAnimation: cannot write path: ") +
-                                 std::strerror(ok ? errno : write_errno));
+    ThrowFileError(path, "",
+                   std::string("WriteHtmlAnimation: cannot write path: ") +
+                       std::strerror(ok ? errno : write_errno));
   }
   std::error_code ec;
   fs::rename(temp, target, ec);

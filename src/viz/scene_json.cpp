@@ -103,8 +103,7 @@ double BoundingRadius(const Shape& shape) {
   return 0.0;
 }
 
-void AppendGeometry(const GeometryInstance& g, int model_index, NumberWriter* w,
-                    std::string* out) {
+void AppendGeometry(const GeometryInstance& g, int model_index, NumberWriter* w, std::string* out) {
   out->append("{\"name\":").append(JsonQuote(g.name));
   out->append(",\"body\":").append(std::to_string(g.body));
   out->append(",\"type\":\"").append(ShapeName(g.shape)).append("\"");
@@ -377,10 +376,10 @@ std::string MakeSceneJson(const Model& model, const std::vector<AnimationFrame>&
     center = 0.5 * (fd.lower + fd.upper);
     radius = std::max(0.5 * (fd.upper - fd.lower).norm(), 0.05);
   }
-  const double force_scale =
-      options.force_scale > 0.0 ? options.force_scale
-      : fd.max_force > 0.0      ? 0.5 * radius / fd.max_force
-                                : 0.5 * radius / std::max(MinForce(model, options) * 1e3, 1e-9);
+  const double force_scale = options.force_scale > 0.0 ? options.force_scale
+                             : fd.max_force > 0.0
+                                 ? 0.5 * radius / fd.max_force
+                                 : 0.5 * radius / std::max(MinForce(model, options) * 1e3, 1e-9);
   out.append(",\"center\":");
   w.Array(center.data(), 3);
   out.append(",\"radius\":");

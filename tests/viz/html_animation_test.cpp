@@ -22,8 +22,8 @@ namespace idto {
 namespace {
 
 namespace fs = std::filesystem;
-using ::testing::HasSubstr;
 using test::Json;
+using ::testing::HasSubstr;
 
 class HtmlAnimationTest : public ::testing::Test {
  protected:
@@ -55,10 +55,11 @@ TEST_F(HtmlAnimationTest, PageIsSelfContained) {
   HtmlAnimationOptions options;
   options.title = "ball <&> arm";
   options.contact = ContactOptions{};
-  const std::string page =
-      MakeHtmlAnimation(model_, test::VizFrames(model_, 100.0, true), options);
+  const std::string page = MakeHtmlAnimation(model_, test::VizFrames(model_, 100.0, true), options);
   // (find, not HasSubstr: a failure would print the whole page with three.js)
-  const auto has = [&page](const std::string& text) { return page.find(text) != std::string::npos; };
+  const auto has = [&page](const std::string& text) {
+    return page.find(text) != std::string::npos;
+  };
   EXPECT_TRUE(has("default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'"));
   EXPECT_TRUE(has("var REVISION=\"111\""));  // three.js r111, inlined
   EXPECT_TRUE(has("exports.OrbitControls = OrbitControls"));
@@ -73,7 +74,7 @@ TEST_F(HtmlAnimationTest, PageIsSelfContained) {
   // Two models (the ball, the arm) and the table welded to the world: three roots.
   EXPECT_EQ(scene["models"].size(), 3u);
   EXPECT_EQ(scene["animated"].size(), 3u);  // ball, upper, forearm
-  EXPECT_EQ(scene["times"].size(), 121u);  // 100 Hz subsampled: one frame per 1/60 s
+  EXPECT_EQ(scene["times"].size(), 121u);   // 100 Hz subsampled: one frame per 1/60 s
 }
 
 TEST_F(HtmlAnimationTest, SubsamplesToTheFrameRateKeepingFirstAndLast) {

@@ -140,8 +140,8 @@ inline std::string Between(const std::string& text, const std::string& begin,
 
 /// The scene data of a page written by WriteHtmlAnimation.
 inline Json SceneOfPage(const std::string& page) {
-  return ParseJson(Between(page, "<script id=\"idto-scene\" type=\"application/json\">",
-                           "</script>"));
+  return ParseJson(
+      Between(page, "<script id=\"idto-scene\" type=\"application/json\">", "</script>"));
 }
 
 }  // namespace idto::test

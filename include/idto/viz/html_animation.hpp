@@ -29,10 +29,10 @@ namespace idto {
 
 /// One instant of an animation.
 struct AnimationFrame {
-  double t{0.0};        ///< time, s (frames in non-decreasing time order)
-  Eigen::VectorXd q;    ///< configuration (nq)
-  Eigen::VectorXd v;    ///< velocity (nv), or empty for zero (contact forces then have no
-                        ///< dissipation or friction)
+  double t{0.0};            ///< time, s (frames in non-decreasing time order)
+  Eigen::VectorXd q;        ///< configuration (nq)
+  Eigen::VectorXd v;        ///< velocity (nv), or empty for zero (contact forces then have no
+                            ///< dissipation or friction)
   Eigen::VectorXd q_ghost;  ///< configuration drawn as a translucent ghost (nq), or empty
 };
 

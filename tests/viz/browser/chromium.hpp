@@ -76,12 +76,21 @@ inline std::string UrlEncode(const std::string& s) {
 /// `args` appended, at most `timeout_s` seconds.
 inline ChromiumRun RunChromium(const std::string& chromium, const std::vector<std::string>& args,
                                const fs::path& work, int timeout_s = 90) {
-  const std::vector<std::string> base = {
-      "--headless", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
-      "--enable-logging=stderr", "--v=0", "--user-data-dir=" + (work / "profile").string(),
-      "--no-first-run", "--disable-extensions", "--disable-background-networking",
-      "--disable-component-update", "--disable-sync", "--mute-audio", "--hide-scrollbars",
-      "--window-size=1000,700"};
+  const std::vector<std::string> base = {"--headless",
+                                         "--no-sandbox",
+                                         "--use-angle=swiftshader",
+                                         "--enable-unsafe-swiftshader",
+                                         "--enable-logging=stderr",
+                                         "--v=0",
+                                         "--user-data-dir=" + (work / "profile").string(),
+                                         "--no-first-run",
+                                         "--disable-extensions",
+                                         "--disable-background-networking",
+                                         "--disable-component-update",
+                                         "--disable-sync",
+                                         "--mute-audio",
+                                         "--hide-scrollbars",
+                                         "--window-size=1000,700"};
   std::string command = "timeout " + std::to_string(timeout_s) + " " + ShellQuote(chromium);
   for (const std::string& a : base) command += " " + ShellQuote(a);
   for (const std::string& a : args) command += " " + ShellQuote(a);
@@ -108,8 +117,11 @@ inline std::string TestReport(const std::string& dom) {
   for (std::size_t i = 0; i < text.size(); ++i) {
     bool replaced = false;
     for (const auto& [entity, c] : {std::pair<const char*, char>{"&quot;", '"'},
-                                    {"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'},
-                                    {"&#39;", '\''}, {"&nbsp;", ' '}}) {
+                                    {"&amp;", '&'},
+                                    {"&lt;", '<'},
+                                    {"&gt;", '>'},
+                                    {"&#39;", '\''},
+                                    {"&nbsp;", ' '}}) {
       const std::string e(entity);
       if (text.compare(i, e.size(), e) == 0) {
         out += c;
