@@ -16,45 +16,46 @@
 // URL fragment: #t=1.5 opens paused at t = 1.5 s; #idto-test=<JSON> runs the test driver at
 // the end of this file (used by idto's browser tests) and writes its report into
 // #idto-test-output.
-(function () {
-  'use strict';
-  var S = JSON.parse(document.getElementById('idto-scene').textContent);
-  var N = S.times.length;
-  var T0 = S.times[0];
-  var T1 = S.times[N - 1];
-  var R = S.radius;
-  var CENTER = new THREE.Vector3().fromArray(S.center);
-  var Y_AXIS = new THREE.Vector3(0, 1, 0);
-  var COLORS = {
+'use strict';
+// A block, not a function: its declarations stay out of the global scope.
+{
+  let S = JSON.parse(document.getElementById('idto-scene').textContent);
+  let N = S.times.length;
+  let T0 = S.times[0];
+  let T1 = S.times[N - 1];
+  let R = S.radius;
+  let CENTER = new THREE.Vector3().fromArray(S.center);
+  let Y_AXIS = new THREE.Vector3(0, 1, 0);
+  let COLORS = {
     normal: 0xd62728, normal_distance: 0xff9896, friction: 0x2ca02c, friction_distance: 0x98df8a
   };
 
   // ---------------------------------------------------------------- renderer, camera, lights
-  var view = document.getElementById('view');
-  var renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
+  let view = document.getElementById('view');
+  let renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
   renderer.setPixelRatio(window.devicePixelRatio || 1);
   view.appendChild(renderer.domElement);
-  var scene = new THREE.Scene();
+  let scene = new THREE.Scene();
   scene.background = new THREE.Color(0xf4f5f7);
-  var camera = new THREE.PerspectiveCamera(40, 1, R * 0.005, R * 200);
+  let camera = new THREE.PerspectiveCamera(40, 1, R * 0.005, R * 200);
   camera.up.set(0, 0, 1);  // Z up
-  var view_dir = new THREE.Vector3(0.9, -1.6, 0.75).normalize();
+  let view_dir = new THREE.Vector3(0.9, -1.6, 0.75).normalize();
   camera.position.copy(CENTER).addScaledVector(view_dir, 3.1 * R);
-  var controls = new THREE.OrbitControls(camera, renderer.domElement);
+  let controls = new THREE.OrbitControls(camera, renderer.domElement);
   controls.target.copy(CENTER);
   controls.screenSpacePanning = true;
   controls.update();
-  var hemi = new THREE.HemisphereLight(0xffffff, 0x707070, 0.75);
+  let hemi = new THREE.HemisphereLight(0xffffff, 0x707070, 0.75);
   hemi.position.set(0, 0, 1);
   scene.add(hemi);
-  var sun = new THREE.DirectionalLight(0xffffff, 0.55);
+  let sun = new THREE.DirectionalLight(0xffffff, 0.55);
   sun.position.set(CENTER.x + R, CENTER.y - 2 * R, CENTER.z + 3 * R);
   scene.add(sun);
-  var world_axes = new THREE.AxesHelper(0.5 * R);
+  let world_axes = new THREE.AxesHelper(0.5 * R);
   scene.add(world_axes);
 
   // ---------------------------------------------------------------- shapes
-  var geometry_cache = {};
+  let geometry_cache = {};
   function cached(key, make) {
     if (!geometry_cache[key]) geometry_cache[key] = make();
     return geometry_cache[key];
@@ -135,14 +136,14 @@
   }
 
   // ---------------------------------------------------------------- bodies, ghost, frames
-  var body_groups = [];
-  var ghost_groups = {};
-  var frame_axes = [];
-  var animated_slot = {};  // body index -> slot in the per-frame pose arrays
+  let body_groups = [];
+  let ghost_groups = {};
+  let frame_axes = [];
+  let animated_slot = {};  // body index -> slot in the per-frame pose arrays
   S.animated.forEach(function (b, slot) { animated_slot[b] = slot; });
-  var has_ghost = S.ghost.some(function (g) { return g.length > 0; });
-  var materials = {};
-  var ghost_materials = {};
+  let has_ghost = S.ghost.some(function (g) { return g.length > 0; });
+  let materials = {};
+  let ghost_materials = {};
   function material(color) {
     if (!materials[color]) {
       materials[color] = new THREE.MeshPhongMaterial({color: color, shininess: 30});
@@ -185,11 +186,11 @@
   });
 
   // Bones (links drawn as thin rods from the body origin) and joint markers, model coloured.
-  var bone_geometry = new THREE.CylinderBufferGeometry(1, 1, 1, 8);
+  let bone_geometry = new THREE.CylinderBufferGeometry(1, 1, 1, 8);
   bone_geometry.translate(0, 0.5, 0);
-  var bone_radius = 0.006 * R;
-  var joint_geometry = new THREE.SphereBufferGeometry(1.8 * bone_radius, 12, 8);
-  var has_joint_marker = {};
+  let bone_radius = 0.006 * R;
+  let joint_geometry = new THREE.SphereBufferGeometry(1.8 * bone_radius, 12, 8);
+  let has_joint_marker = {};
   function modelColor(b) {
     var m = S.bodies[b].model;
     return m >= 0 ? S.models[m].color : '#8c8c8c';
@@ -212,30 +213,30 @@
   });
 
   // ---------------------------------------------------------------- contact forces
-  var unit_shaft = new THREE.CylinderBufferGeometry(1, 1, 1, 10);
+  let unit_shaft = new THREE.CylinderBufferGeometry(1, 1, 1, 10);
   unit_shaft.translate(0, 0.5, 0);
-  var unit_head = new THREE.ConeBufferGeometry(1, 1, 14);
+  let unit_head = new THREE.ConeBufferGeometry(1, 1, 14);
   unit_head.translate(0, 0.5, 0);
-  var point_geometry = new THREE.SphereBufferGeometry(0.018 * R, 12, 8);
+  let point_geometry = new THREE.SphereBufferGeometry(0.018 * R, 12, 8);
   // Forces are drawn over everything (no depth test): a contact point is usually hidden
   // inside the bodies that touch.
   function arrowMaterial(color, at_distance) {
     return new THREE.MeshBasicMaterial({color: color, transparent: true, depthTest: false,
                                         opacity: at_distance ? 0.55 : 1.0});
   }
-  var arrow_materials = {
+  let arrow_materials = {
     normal: arrowMaterial(COLORS.normal, false),
     normal_distance: arrowMaterial(COLORS.normal_distance, true),
     friction: arrowMaterial(COLORS.friction, false),
     friction_distance: arrowMaterial(COLORS.friction_distance, true)
   };
-  var point_materials = {
+  let point_materials = {
     penetration: new THREE.MeshBasicMaterial({color: 0x7f0000, transparent: true,
                                               depthTest: false}),
     distance: new THREE.MeshBasicMaterial({color: 0xe07b00, wireframe: true, transparent: true,
                                            depthTest: false})
   };
-  var forces_group = new THREE.Group();
+  let forces_group = new THREE.Group();
   forces_group.renderOrder = 10;
   scene.add(forces_group);
   function Arrow() {
@@ -245,7 +246,7 @@
     this.group.add(this.shaft);
     this.group.add(this.head);
   }
-  var scratch = new THREE.Vector3();
+  let scratch = new THREE.Vector3();
   Arrow.prototype.set = function (origin, f, mat) {
     var length = Math.sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) * S.force_scale;
     this.group.visible = length > 1e-6 * R;
@@ -260,7 +261,7 @@
     scratch.set(f[0], f[1], f[2]).normalize();
     this.group.quaternion.setFromUnitVectors(Y_AXIS, scratch);
   };
-  var contact_pool = [];  // {normal: Arrow, friction: Arrow, point: Mesh}
+  let contact_pool = [];  // {normal: Arrow, friction: Arrow, point: Mesh}
   function contactSlot(i) {
     while (contact_pool.length <= i) {
       var c = {normal: new Arrow(), friction: new Arrow(),
@@ -272,8 +273,8 @@
     }
     return contact_pool[i];
   }
-  var shown_contacts = 0;
-  var origin = new THREE.Vector3();
+  let shown_contacts = 0;
+  let origin = new THREE.Vector3();
   function showContacts(k) {
     var data = S.contacts[k];
     var n = data.length / 10;
@@ -299,10 +300,10 @@
   }
 
   // ---------------------------------------------------------------- time
-  var current_t = T0;
-  var current_frame = 0;
-  var qa = new THREE.Quaternion();
-  var qb = new THREE.Quaternion();
+  let current_t = T0;
+  let current_frame = 0;
+  let qa = new THREE.Quaternion();
+  let qb = new THREE.Quaternion();
   function frameAt(t) {  // the last frame at or before t
     var lo = 0;
     var hi = N - 1;
@@ -325,9 +326,9 @@
       THREE.Quaternion.slerp(qa, qb, group.quaternion, alpha);
     });
   }
-  var slider = document.getElementById('slider');
-  var time_label = document.getElementById('time');
-  var needs_render = true;
+  let slider = document.getElementById('slider');
+  let time_label = document.getElementById('time');
+  let needs_render = true;
   // Shows the scene at time t (clamped to the trajectory): body poses interpolated between the
   // frames around t, contacts of the nearest frame.
   function setTime(t) {
@@ -360,10 +361,10 @@
   });
 
   // ---------------------------------------------------------------- controls
-  var playing = false;
-  var last_ms = null;
-  var speed = S.speed;
-  var play_button = document.getElementById('play');
+  let playing = false;
+  let last_ms = null;
+  let speed = S.speed;
+  let play_button = document.getElementById('play');
   function setPlaying(on) {
     playing = on && T1 > T0;
     last_ms = null;
@@ -377,8 +378,8 @@
     if (e.key === 'ArrowRight') { setPlaying(false); setTime(S.times[Math.min(N - 1, current_frame + 1)]); }
     if (e.key === 'ArrowLeft') { setPlaying(false); setTime(S.times[Math.max(0, current_frame - 1)]); }
   });
-  var speed_select = document.getElementById('speed');
-  var best = speed_select.options[0];
+  let speed_select = document.getElementById('speed');
+  let best = speed_select.options[0];
   Array.prototype.forEach.call(speed_select.options, function (o) {
     if (Math.abs(Math.log(o.value / speed)) < Math.abs(Math.log(best.value / speed))) best = o;
   });
@@ -558,7 +559,7 @@
     report.errors = window.idtoErrors;
     document.getElementById('idto-test-output').textContent = JSON.stringify(report);
   };
-  var hash = window.location.hash;
+  let hash = window.location.hash;
   if (hash.indexOf('#idto-test=') === 0) {
     window.idtoRunTests(JSON.parse(decodeURIComponent(hash.slice('#idto-test='.length))));
   } else if (hash.indexOf('#t=') === 0) {
@@ -570,4 +571,4 @@
     setPlaying(true);
     window.requestAnimationFrame(tick);
   }
-})();
+}
