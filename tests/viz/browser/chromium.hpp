@@ -73,9 +73,10 @@ inline std::string UrlEncode(const std::string& s) {
 }
 
 /// Runs headless chromium (software WebGL, a fresh profile in `work`, a 1000 x 700 window) with
-/// `args` appended, at most `timeout_s` seconds.
+/// `args` appended, at most `timeout_s` seconds (generous: on a loaded shared machine a launch
+/// has taken 90 s; idle, a few seconds).
 inline ChromiumRun RunChromium(const std::string& chromium, const std::vector<std::string>& args,
-                               const fs::path& work, int timeout_s = 90) {
+                               const fs::path& work, int timeout_s = 300) {
   const std::vector<std::string> base = {"--headless",
                                          "--no-sandbox",
                                          "--use-angle=swiftshader",
