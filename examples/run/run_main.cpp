@@ -3,7 +3,7 @@
 //
 //   idto-run CONFIG.yaml|NAME [--max-iterations N] [--threads N]
 //            [--constraints none|penalty|lagrange] [--mpc] [--summary-json FILE]
-//            [--trajectory-csv FILE] [--stats-csv FILE] [--quiet]
+//            [--trajectory-csv FILE] [--stats-csv FILE] [--html FILE] [--quiet]
 //
 // NAME is an example's name: examples/NAME/NAME.yaml under $IDTO_SHARE_DIR, the source tree (for
 // programs run from the build tree) or <bin>/../share/idto (the install tree).
@@ -38,6 +38,7 @@
 #include "idto/mpc/closed_loop.hpp"
 #include "idto/sim/plant.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
+#include "idto/viz/html_animation.hpp"
 #include "idto_build_paths.hpp"
 #include "run/metrics.hpp"
 #include "run/metrics_closed_loop.hpp"
@@ -69,6 +70,8 @@ const char kUsage[] =
     "  --summary-json FILE                write the JSON summary to FILE\n"
     "  --trajectory-csv FILE              write t, q, v, tau per time step to FILE\n"
     "  --stats-csv FILE                   write the per-iteration statistics to FILE\n"
+    "  --html FILE                        write a 3D viewer page of the plan (or, with --mpc,\n"
+    "                                     the closed-loop motion with the plan as a ghost)\n"
     "  --quiet                            no iteration table\n"
     "  -h, --help                         this message\n"
     "\n"
@@ -85,6 +88,7 @@ struct Arguments {
   std::string summary_json;
   std::string trajectory_csv;
   std::string stats_csv;
+  std::string html;
 };
 
 /// Thrown for bad command-line arguments (exit code 2).
@@ -165,6 +169,8 @@ Arguments ParseArguments(int argc, char** argv) {
       args.trajectory_csv = take_value();
     } else if (arg == "--stats-csv") {
       args.stats_csv = take_value();
+    } else if (arg == "--html") {
+      args.html = take_value();
     } else if (arg.size() > 1 && arg[0] == '-') {
       throw UsageError{"unknown option " + arg};
     } else {
@@ -554,6 +560,17 @@ void PrintTask(const idto::examples::TaskResult& task) {
             << task.criterion << ")\n";
 }
 
+/// The viewer page (--html): the frames, with the problem's contact forces.
+void WriteHtml(const Arguments& args, const ExampleConfig& config,
+               const idto::ProblemDefinition& problem,
+               const std::vector<idto::AnimationFrame>& frames) {
+  idto::HtmlAnimationOptions html;
+  html.title = "idto: " + config.name + (args.mpc ? " (closed loop; ghost: the plan)" : "");
+  if (problem.enable_contact) html.contact = problem.contact;
+  idto::WriteHtmlAnimation(config.model, frames, html, args.html);
+  std::cout << "wrote " << args.html << "\n";
+}
+
 int Run(const Arguments& args, const char* argv0) {
   std::vector<std::string> share_dirs =
       idto::DefaultShareDirs(IDTO_SOURCE_SHARE_DIR, ExecutablePath(argv0));
@@ -575,6 +592,7 @@ int Run(const Arguments& args, const char* argv0) {
   for (const std::string& file : {args.summary_json, args.trajectory_csv, args.stats_csv}) {
     if (!file.empty()) WriteFile(file, "", "output file");
   }
+  if (!args.html.empty()) idto::CheckHtmlAnimationPath(args.html);
 
   const idto::ProblemDefinition& problem = config.problem;
   std::cout << "idto-run " << IDTO_VERSION_STRING << ": " << config.name << " (" << config_path
@@ -630,6 +648,10 @@ int Run(const Arguments& args, const char* argv0) {
     WriteFile(args.stats_csv, summary.ToCsv(), "stats CSV");
     std::cout << "wrote " << args.stats_csv << "\n";
   }
+  if (!args.html.empty()) {
+    WriteHtml(args, config, problem,
+              idto::MakeAnimationFrames(solution.q, solution.v, problem.time_step));
+  }
   return kExitOk;
 }
 
@@ -649,6 +671,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
   for (const std::string& file : {args.summary_json, args.trajectory_csv, args.stats_csv}) {
     if (!file.empty()) WriteFile(file, "", "output file");
   }
+  if (!args.html.empty()) idto::CheckHtmlAnimationPath(args.html);
   const idto::Model& model = config.model;
   std::cout << "idto-run " << IDTO_VERSION_STRING << ": " << config.name << " --mpc ("
             << config_path << ")\n"
@@ -742,6 +765,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
     WriteFile(args.stats_csv, out.str(), "solve-time CSV");
     std::cout << "wrote " << args.stats_csv << "\n";
   }
+  if (!args.html.empty()) WriteHtml(args, config, problem, idto::MakeAnimationFrames(log));
   return kExitOk;
 }
 

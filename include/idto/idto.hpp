@@ -51,3 +51,5 @@
 // example configuration files (YAML): builds models, problems and solver options
 #include "idto/config/config.hpp"
 #include "idto/config/mpc_config.hpp"
+// viewer (top of the stack): self-contained HTML animation pages
+#include "idto/viz/html_animation.hpp"

@@ -131,6 +131,7 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
       log.v.push_back(plant->v());
       log.u.push_back(u);
       log.contact.push_back(plant->contact_force_per_body());
+      log.q_plan.push_back(q_d);
     }
     try {
       u_plant = u + kd_implicit.cwiseProduct(plant->v());

@@ -48,6 +48,8 @@ struct ClosedLoopLog {
   std::vector<double> t;                 ///< log times, s
   std::vector<Eigen::VectorXd> q, v, u;  ///< plant state and applied generalized forces
   std::vector<Eigen::VectorXd> contact;  ///< contact force magnitude per body, N
+  /// The configuration the plan in force asked for at each log time (q_d of the PD+), nq each.
+  std::vector<Eigen::VectorXd> q_plan;
   std::vector<double> replan_time;       ///< time of each re-plan, s
   std::vector<double> solve_time;        ///< wall-clock seconds of each re-plan
   std::vector<int> solve_status;         ///< TerminationType of each re-plan
