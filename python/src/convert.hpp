@@ -14,12 +14,6 @@
 #include <Eigen/Core>
 
 #include <idto/idto.hpp>
-// The `mpc:` section parser is not in the umbrella header (yet); its folder moves.
-#if __has_include(<idto/config/mpc_config.hpp>)
-#include <idto/config/mpc_config.hpp>
-#elif __has_include(<idto/parsers/mpc_config.hpp>)
-#include <idto/parsers/mpc_config.hpp>
-#endif
 
 namespace idto::python {
 
