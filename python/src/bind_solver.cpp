@@ -49,7 +49,8 @@ void BindSummaries(py::module_& m) {
       .value("kConverged", TerminationType::kConverged)
       .value("kMaxIterations", TerminationType::kMaxIterations)
       .value("kFailure", TerminationType::kFailure)
-      .value("kUserTermination", TerminationType::kUserTermination);
+      .value("kUserTermination", TerminationType::kUserTermination)
+      .value("kUserAbort", TerminationType::kUserAbort);
   m.def("termination_type_name", &TerminationTypeName);
   py::enum_<DoglegStep>(m, "DoglegStep")
       .value("kNewton", DoglegStep::kNewton)
@@ -255,6 +256,7 @@ void BindSolver(py::module_& m) {
   BindTrajectory(m);
   py::enum_<CallbackReturn>(m, "CallbackReturn")
       .value("kContinue", CallbackReturn::kContinue)
+      .value("kTerminateSuccessfully", CallbackReturn::kTerminateSuccessfully)
       .value("kAbort", CallbackReturn::kAbort)
       .value("kTerminate", CallbackReturn::kTerminate);
   py::class_<TrajectoryOptimizer> c(m, "TrajectoryOptimizer", "The IDTO solver.");

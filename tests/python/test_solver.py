@@ -214,6 +214,7 @@ def test_callbacks(spinner):
                      else idto.CallbackReturn.kContinue)
     summary, _ = opt.solve(ex.initial_guess())
     assert summary.iterations == 2 and "abort" in summary.message
+    assert summary.termination == idto.TerminationType.kUserAbort
 
     opt = idto.TrajectoryOptimizer(ex.model, ex.problem, short_options(ex, 10))
     calls = []
