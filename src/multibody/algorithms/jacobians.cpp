@@ -1,6 +1,6 @@
 #include "idto/multibody/algorithms/jacobians.hpp"
 
-#include "../joint_kinematics.hpp"
+#include "idto/multibody/algorithms/joint_kinematics.hpp"
 #include "idto/core/errors.hpp"
 
 namespace idto {
