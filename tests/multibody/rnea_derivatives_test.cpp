@@ -68,7 +68,7 @@ AdDerivatives AutoDiffRnea(const Model& model, const Eigen::VectorXd& q, const E
   for (int i = 0; i < nv; ++i) {
     out.tau(i) = tau(i).value();
     J.row(i) = tau(i).derivatives().size() == n ? Eigen::VectorXd(tau(i).derivatives())
-                                                 : Eigen::VectorXd::Zero(n);
+                                                : Eigen::VectorXd::Zero(n);
   }
   out.dtau_dq = J.leftCols(nq);
   out.dtau_dv = J.middleCols(nq, nv);
@@ -83,9 +83,13 @@ void ExpectMatchesAutoDiff(const Model& model, const Eigen::VectorXd& q, const E
   const double floor = ad.dtau_da.norm();
   EXPECT_LE(RelativeError(data->tau, ad.tau, floor), kTolerance);
   EXPECT_LE(RelativeError(data->dtau_dq, ad.dtau_dq, floor), kTolerance)
-      << "analytic\n" << data->dtau_dq << "\nAD\n" << ad.dtau_dq;
+      << "analytic\n"
+      << data->dtau_dq << "\nAD\n"
+      << ad.dtau_dq;
   EXPECT_LE(RelativeError(data->dtau_dv, ad.dtau_dv, floor), kTolerance)
-      << "analytic\n" << data->dtau_dv << "\nAD\n" << ad.dtau_dv;
+      << "analytic\n"
+      << data->dtau_dv << "\nAD\n"
+      << ad.dtau_dv;
   EXPECT_LE(RelativeError(data->M, ad.dtau_da), kTolerance);
   // The tangent derivative is the raw one along N(q).
   Eigen::MatrixXd N;

@@ -15,7 +15,8 @@ namespace idto {
 
 /// Rotation by `angle` about the unit vector `axis` (Rodrigues' formula).
 template <typename Scalar>
-Matrix3<Scalar> AxisAngleRotation(const NonDeduced<Eigen::Vector3d>& axis, const Scalar& angle) {
+inline Matrix3<Scalar> AxisAngleRotation(const NonDeduced<Eigen::Vector3d>& axis,
+                                         const Scalar& angle) {
   using std::cos;
   using std::sin;
   const Scalar s = sin(angle);
@@ -45,7 +46,7 @@ inline void QuaternionToWxyz(const Eigen::Quaterniond& Q, double* q) {
 /// Rotation matrix of the normalized quaternion [qw, qx, qy, qz] at q (identity for a zero one).
 /// Depends on q only through q / |q|.
 template <typename Scalar>
-Matrix3<Scalar> RotationFromWxyz(const Scalar* q) {
+inline Matrix3<Scalar> RotationFromWxyz(const Scalar* q) {
   const Scalar n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
   if (!(n2 > 0.0)) return Matrix3<Scalar>::Identity();
   const Scalar s = 2.0 / n2;  // normalizes on the fly
@@ -61,7 +62,7 @@ Matrix3<Scalar> RotationFromWxyz(const Scalar* q) {
 /// velocity w is expressed in the parent (fixed) frame: qdot = 1/2 [0; w] (x) q. G(q)^T q = 0 and
 /// G(q)^T G(q) = |q|^2 / 4 I.
 template <typename Scalar>
-Eigen::Matrix<Scalar, 4, 3> QuaternionRateMatrix(const Scalar* q) {
+inline Eigen::Matrix<Scalar, 4, 3> QuaternionRateMatrix(const Scalar* q) {
   const Scalar &w = q[0], &x = q[1], &y = q[2], &z = q[3];
   Eigen::Matrix<Scalar, 4, 3> G;
   G << -x, -y, -z,  //

@@ -19,7 +19,7 @@ namespace idto {
 
 /// Skew-symmetric matrix [w]x with [w]x u = w x u.
 template <typename Scalar>
-Matrix3<Scalar> Skew(const Vector3<Scalar>& w) {
+inline Matrix3<Scalar> Skew(const Vector3<Scalar>& w) {
   Matrix3<Scalar> S;
   S << Scalar(0), -w.z(), w.y(), w.z(), Scalar(0), -w.x(), -w.y(), w.x(), Scalar(0);
   return S;
@@ -91,21 +91,21 @@ struct SpatialForceTpl {
 
 /// Power: the scalar product of a motion and a force expressed in the same frame.
 template <typename Scalar>
-Scalar Dot(const SpatialMotionTpl<Scalar>& m, const SpatialForceTpl<Scalar>& F) {
+inline Scalar Dot(const SpatialMotionTpl<Scalar>& m, const SpatialForceTpl<Scalar>& F) {
   return m.w.dot(F.n) + m.v.dot(F.f);
 }
 
 /// Motion cross product m1 x m2 = [w1 x w2; w1 x v2 + v1 x w2].
 template <typename Scalar>
-SpatialMotionTpl<Scalar> Cross(const SpatialMotionTpl<Scalar>& m1,
-                               const SpatialMotionTpl<Scalar>& m2) {
+inline SpatialMotionTpl<Scalar> Cross(const SpatialMotionTpl<Scalar>& m1,
+                                      const SpatialMotionTpl<Scalar>& m2) {
   return {m1.w.cross(m2.w), m1.w.cross(m2.v) + m1.v.cross(m2.w)};
 }
 
 /// Force cross product m x* F = [w x n + v x f; w x f].
 template <typename Scalar>
-SpatialForceTpl<Scalar> CrossForce(const SpatialMotionTpl<Scalar>& m,
-                                   const SpatialForceTpl<Scalar>& F) {
+inline SpatialForceTpl<Scalar> CrossForce(const SpatialMotionTpl<Scalar>& m,
+                                          const SpatialForceTpl<Scalar>& F) {
   return {m.w.cross(F.n) + m.v.cross(F.f), m.w.cross(F.f)};
 }
 

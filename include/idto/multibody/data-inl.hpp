@@ -55,8 +55,7 @@ Vector6<Scalar> DataTpl<Scalar>::V_WB(BodyIndex b) const {
 }
 
 template <typename Scalar>
-typename DataTpl<Scalar>::Isometry3 DataTpl<Scalar>::X_WF(const Model& model,
-                                                          FrameIndex f) const {
+typename DataTpl<Scalar>::Isometry3 DataTpl<Scalar>::X_WF(const Model& model, FrameIndex f) const {
   return X_WB(model.frame_body(f)) * model.X_BF(f).template cast<Scalar>();
 }
 

@@ -5,8 +5,7 @@
 
 namespace idto {
 
-template const VectorX<double>& InverseDynamics<double>(const Model&,
-                                                        const ConstVectorRef<double>&,
+template const VectorX<double>& InverseDynamics<double>(const Model&, const ConstVectorRef<double>&,
                                                         const ConstVectorRef<double>&,
                                                         const ConstVectorRef<double>&,
                                                         const BodyForcesTpl<double>*,

@@ -1,8 +1,8 @@
 #include <cmath>
 
-#include "idto/multibody/algorithms/kinematics-inl.hpp"
 #include "idto/core/errors.hpp"
 #include "idto/math/quaternion.hpp"
+#include "idto/multibody/algorithms/kinematics-inl.hpp"
 
 namespace idto {
 

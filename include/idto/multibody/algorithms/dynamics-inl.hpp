@@ -40,11 +40,9 @@ void SubtractExternalForces(const Model& model, const BodyForcesTpl<Scalar>& F_e
 /// of a preceding ForwardKinematics(q, v) are reused (q is not read).
 template <typename Scalar>
 void Rnea(const Model& model, const Scalar* q, const Scalar* v, const Scalar* a,
-          const BodyForcesTpl<Scalar>* F_ext, DataTpl<Scalar>* data,
-          bool kinematics_done = false) {
+          const BodyForcesTpl<Scalar>* F_ext, DataTpl<Scalar>* data, bool kinematics_done = false) {
   const std::vector<BodyIndex>& moving = model.moving_bodies();
-  const SpatialMotionTpl<Scalar> a_world(Vector3<Scalar>::Zero(),
-                                         -CastTo<Scalar>(model.gravity()));
+  const SpatialMotionTpl<Scalar> a_world(Vector3<Scalar>::Zero(), -CastTo<Scalar>(model.gravity()));
   const bool with_world = F_ext != nullptr && !kinematics_done;
   data->X_WB_[0] = RigidTransformTpl<Scalar>::Identity();
   for (BodyIndex b : moving) {

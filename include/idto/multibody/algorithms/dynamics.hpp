@@ -99,8 +99,7 @@ extern template const VectorX<double>& InverseDynamics<double>(
 extern template const VectorX<double>& InverseDynamicsAfterKinematics<double>(
     const Model&, const ConstVectorRef<double>&, const ConstVectorRef<double>&,
     const BodyForcesTpl<double>*, DataTpl<double>*);
-extern template const VectorX<double>& BiasTerm<double>(const Model&,
-                                                        const ConstVectorRef<double>&,
+extern template const VectorX<double>& BiasTerm<double>(const Model&, const ConstVectorRef<double>&,
                                                         const ConstVectorRef<double>&,
                                                         DataTpl<double>*);
 extern template const MatrixX<double>& MassMatrix<double>(const Model&,

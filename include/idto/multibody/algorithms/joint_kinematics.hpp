@@ -32,8 +32,8 @@ inline void CheckNv(const Model& model, const char* where, const char* argument,
 /// X_pi: pose of moving body b in its moving parent; R_JB: rotation of B in J (floating and
 /// planar joints only). qj points at the joint's first position coordinate.
 template <typename Scalar>
-void CalcJointPose(const Model& model, BodyIndex b, const Scalar* qj,
-                   RigidTransformTpl<Scalar>* X_pi, Matrix3<Scalar>* R_JB) {
+inline void CalcJointPose(const Model& model, BodyIndex b, const Scalar* qj,
+                          RigidTransformTpl<Scalar>* X_pi, Matrix3<Scalar>* R_JB) {
   const auto& X_MJ = CastTo<Scalar>(model.X_MJ(b));
   switch (model.joint_type(b)) {
     case JointType::kRevolute:
@@ -73,8 +73,8 @@ void CalcJointPose(const Model& model, BodyIndex b, const Scalar* qj,
 
 /// S * x for the joint of moving body b (x: the joint's nv entries), in body coordinates.
 template <typename Scalar>
-SpatialMotionTpl<Scalar> JointMotion(const Model& model, BodyIndex b, const Matrix3<Scalar>& R_JB,
-                                     const Scalar* x) {
+inline SpatialMotionTpl<Scalar> JointMotion(const Model& model, BodyIndex b,
+                                            const Matrix3<Scalar>& R_JB, const Scalar* x) {
   switch (model.joint_type(b)) {
     case JointType::kRevolute:
     case JointType::kContinuous:
@@ -96,8 +96,8 @@ SpatialMotionTpl<Scalar> JointMotion(const Model& model, BodyIndex b, const Matr
 
 /// Column k of S for the joint of moving body b, in body coordinates.
 template <typename Scalar>
-SpatialMotionTpl<Scalar> JointMotionColumn(const Model& model, BodyIndex b,
-                                           const Matrix3<Scalar>& R_JB, int k) {
+inline SpatialMotionTpl<Scalar> JointMotionColumn(const Model& model, BodyIndex b,
+                                                  const Matrix3<Scalar>& R_JB, int k) {
   Scalar x[6] = {Scalar(0), Scalar(0), Scalar(0), Scalar(0), Scalar(0), Scalar(0)};
   x[k] = Scalar(1);
   return JointMotion(model, b, R_JB, x);
@@ -109,14 +109,14 @@ inline bool JointHasBiasAcceleration(JointType type) {
   return type == JointType::kFloating || type == JointType::kPlanar;
 }
 template <typename Scalar>
-SpatialMotionTpl<Scalar> JointBiasAcceleration(const SpatialMotionTpl<Scalar>& vJ) {
+inline SpatialMotionTpl<Scalar> JointBiasAcceleration(const SpatialMotionTpl<Scalar>& vJ) {
   return {Vector3<Scalar>::Zero(), -vJ.w.cross(vJ.v)};
 }
 
 /// out = S^T F for the joint of moving body b (out: the joint's nv entries).
 template <typename Scalar>
-void ProjectForce(const Model& model, BodyIndex b, const Matrix3<Scalar>& R_JB,
-                  const SpatialForceTpl<Scalar>& F, Scalar* out) {
+inline void ProjectForce(const Model& model, BodyIndex b, const Matrix3<Scalar>& R_JB,
+                         const SpatialForceTpl<Scalar>& F, Scalar* out) {
   switch (model.joint_type(b)) {
     case JointType::kRevolute:
     case JointType::kContinuous:

@@ -33,8 +33,10 @@ inline bool IsMixedFrameTranslation(JointType type, int k) {
 /// The columns of the world-frame motion subspace of moving body b (at the world origin), given
 /// the world poses of its moving parent and of b.
 template <typename Scalar>
-void WorldMotionSubspace(const Model& model, BodyIndex b, const RigidTransformTpl<Scalar>& X_Wp,
-                         const RigidTransformTpl<Scalar>& X_WB, SpatialMotionTpl<Scalar>* S) {
+inline void WorldMotionSubspace(const Model& model, BodyIndex b,
+                                const RigidTransformTpl<Scalar>& X_Wp,
+                                const RigidTransformTpl<Scalar>& X_WB,
+                                SpatialMotionTpl<Scalar>* S) {
   const Vector3<Scalar>& p = X_WB.p;
   const JointType type = model.joint_type(b);
   if (type == JointType::kRevolute || type == JointType::kContinuous) {
@@ -72,21 +74,23 @@ void WorldMotionSubspace(const Model& model, BodyIndex b, const RigidTransformTp
 }
 
 template <typename Scalar>
-void StoreColumn(const SpatialMotionTpl<Scalar>& m, int k,
-                 Eigen::Matrix<Scalar, 6, Eigen::Dynamic>* M) {
+inline void StoreColumn(const SpatialMotionTpl<Scalar>& m, int k,
+                        Eigen::Matrix<Scalar, 6, Eigen::Dynamic>* M) {
   M->col(k).template head<3>() = m.w;
   M->col(k).template tail<3>() = m.v;
 }
 
 template <typename Scalar>
-SpatialMotionTpl<Scalar> LoadColumn(const Eigen::Matrix<Scalar, 6, Eigen::Dynamic>& M, int k) {
+inline SpatialMotionTpl<Scalar> LoadColumn(const Eigen::Matrix<Scalar, 6, Eigen::Dynamic>& M,
+                                           int k) {
   return {M.col(k).template head<3>(), M.col(k).template tail<3>()};
 }
 
 /// Symmetric part of the angular block of B(I, V) = d(V x* I V)/dV - I [V x] for one body (the
 /// full B is [[B_sym - [h_n]x, 0], [-2 [h_f]x, 0]] with h = I V its momentum).
 template <typename Scalar>
-Matrix3<Scalar> BodyBSym(const SpatialInertiaTpl<Scalar>& I, const SpatialMotionTpl<Scalar>& V) {
+inline Matrix3<Scalar> BodyBSym(const SpatialInertiaTpl<Scalar>& I,
+                                const SpatialMotionTpl<Scalar>& V) {
   const Matrix3<Scalar> wI = Skew(V.w) * I.Ibar;
   Matrix3<Scalar> B = wI + wI.transpose();
   B.noalias() -= I.h * V.v.transpose();
@@ -98,8 +102,8 @@ Matrix3<Scalar> BodyBSym(const SpatialInertiaTpl<Scalar>& I, const SpatialMotion
 /// Forward pass for moving body j: pose, world motion subspace, velocity, acceleration, body
 /// force and the per-column derivative directions u, w, u' (data->dV_dq_, dA_dq_, dA_dv_).
 template <typename Scalar>
-void RneaDerivativesForwardBody(const Model& model, BodyIndex j, const Scalar* q, const Scalar* v,
-                                const Scalar* a, DataTpl<Scalar>* data) {
+inline void RneaDerivativesForwardBody(const Model& model, BodyIndex j, const Scalar* q,
+                                       const Scalar* v, const Scalar* a, DataTpl<Scalar>* data) {
   using Motion = SpatialMotionTpl<Scalar>;
   const BodyIndex p = model.moving_parent(j);
   const int n = model.joint_nv(j);
@@ -159,8 +163,8 @@ void RneaDerivativesForwardBody(const Model& model, BodyIndex j, const Scalar* q
 /// Subtracts the external forces from the body forces (at the world origin) and records the
 /// terms of their derivative (moments, forces and sum of [p]x [f]x per moving body).
 template <typename Scalar>
-void RneaDerivativesExternalForces(const Model& model, const BodyForcesTpl<Scalar>& F_ext,
-                                   DataTpl<Scalar>* data) {
+inline void RneaDerivativesExternalForces(const Model& model, const BodyForcesTpl<Scalar>& F_ext,
+                                          DataTpl<Scalar>* data) {
   for (BodyIndex b = 1; b < model.num_bodies(); ++b) {
     const BodyIndex m = model.mobilized_body(b);
     if (m == kWorldBody) continue;
@@ -184,8 +188,8 @@ using ForceColumns = Eigen::Matrix<Scalar, 6, 6>;
 /// Backward step at moving body i (its composites complete): tau_i and the blocks of
 /// dtau_dq_tangent, dtau_dv and M in the rows and columns of i and of its ancestors.
 template <typename Scalar>
-void RneaDerivativesBackwardBody(const Model& model, BodyIndex i, bool with_ext,
-                                 DataTpl<Scalar>* data) {
+inline void RneaDerivativesBackwardBody(const Model& model, BodyIndex i, bool with_ext,
+                                        DataTpl<Scalar>* data) {
   using Motion = SpatialMotionTpl<Scalar>;
   using Force = SpatialForceTpl<Scalar>;
   const RneaDerivativeBodyTpl<Scalar>& body = data->deriv_body_[i];
@@ -260,7 +264,7 @@ void RneaDerivativesBackwardBody(const Model& model, BodyIndex i, bool with_ext,
 
 /// Adds the composites of moving body i to its moving parent.
 template <typename Scalar>
-void RneaDerivativesAccumulate(const Model& model, BodyIndex i, DataTpl<Scalar>* data) {
+inline void RneaDerivativesAccumulate(const Model& model, BodyIndex i, DataTpl<Scalar>* data) {
   const BodyIndex p = model.moving_parent(i);
   if (p == kWorldBody) return;
   const RneaDerivativeBodyTpl<Scalar>& c = data->deriv_body_[i];
@@ -276,15 +280,16 @@ void RneaDerivativesAccumulate(const Model& model, BodyIndex i, DataTpl<Scalar>*
 
 /// dtau_dq (raw q coordinates) = dtau_dq_tangent * N+(q).
 template <typename Scalar>
-void RneaDerivativesToRawCoordinates(const Model& model, const Scalar* q, DataTpl<Scalar>* data) {
+inline void RneaDerivativesToRawCoordinates(const Model& model, const Scalar* q,
+                                            DataTpl<Scalar>* data) {
   const MatrixX<Scalar>& dq_t = data->dtau_dq_tangent;
   MatrixX<Scalar>& dq = data->dtau_dq;
   for (BodyIndex b : model.moving_bodies()) {
     const int iq = model.position_start(b), iv = model.velocity_start(b);
     if (model.joint_type(b) == JointType::kFloating) {
       const Eigen::Matrix<Scalar, 4, 3> E = QuaternionRateMatrix(q + iq);
-      const Scalar n2 = q[iq] * q[iq] + q[iq + 1] * q[iq + 1] + q[iq + 2] * q[iq + 2] +
-                        q[iq + 3] * q[iq + 3];
+      const Scalar n2 =
+          q[iq] * q[iq] + q[iq + 1] * q[iq + 1] + q[iq + 2] * q[iq + 2] + q[iq + 3] * q[iq + 3];
       const Scalar scale = n2 > 0.0 ? Scalar(4.0 / n2) : Scalar(0);
       dq.template middleCols<4>(iq).noalias() =
           dq_t.template middleCols<3>(iv) * (scale * E.transpose());
@@ -301,8 +306,7 @@ void RneaDerivativesToRawCoordinates(const Model& model, const Scalar* q, DataTp
 template <typename Scalar>
 void ComputeRneaDerivatives(const Model& model, const ConstVectorRef<Scalar>& q,
                             const ConstVectorRef<Scalar>& v, const ConstVectorRef<Scalar>& a,
-                            const NonDeduced<BodyForcesTpl<Scalar>>* F_ext,
-                            DataTpl<Scalar>* data) {
+                            const NonDeduced<BodyForcesTpl<Scalar>>* F_ext, DataTpl<Scalar>* data) {
   internal::CheckNq(model, "ComputeRneaDerivatives", "q", q.size());
   internal::CheckNv(model, "ComputeRneaDerivatives", "v", v.size());
   internal::CheckNv(model, "ComputeRneaDerivatives", "a", a.size());

@@ -50,13 +50,11 @@ void ComputeRneaDerivatives(const Model& model, const Eigen::Ref<const Eigen::Ve
 template <typename Scalar>
 void ComputeRneaDerivatives(const Model& model, const ConstVectorRef<Scalar>& q,
                             const ConstVectorRef<Scalar>& v, const ConstVectorRef<Scalar>& a,
-                            const NonDeduced<BodyForcesTpl<Scalar>>* F_ext,
-                            DataTpl<Scalar>* data);
+                            const NonDeduced<BodyForcesTpl<Scalar>>* F_ext, DataTpl<Scalar>* data);
 
 extern template void ComputeRneaDerivatives<double>(const Model&, const ConstVectorRef<double>&,
                                                     const ConstVectorRef<double>&,
                                                     const ConstVectorRef<double>&,
-                                                    const BodyForcesTpl<double>*,
-                                                    DataTpl<double>*);
+                                                    const BodyForcesTpl<double>*, DataTpl<double>*);
 
 }  // namespace idto
