@@ -15,14 +15,20 @@
 //            mj_rne(flg_acc = 1) with qacc = a (MuJoCo's rne has no damping; idto adds D v)
 //  - CRBA:   idto MassMatrix(q) (dense, symmetric) | mj_kinematics + mj_comPos + mj_crb +
 //            mj_fullM (dense)
+//  - RNEAderivs: idto ComputeRneaDerivatives(q, v, a): tau, d tau/dq (nv x nq), d tau/dv and M
+//            in one pass (no MuJoCo counterpart; compare with RNEA of the same run)
+//  - RNEAderivsFD: the same outputs by forward differences of idto InverseDynamics (1 + nq + 2 nv
+//            calls, step sqrt(eps)), the method the analytic derivatives replace
 //  - Jacobians4: idto ForwardKinematics(q) + 4 x CalcPointJacobian | mj_kinematics +
 //            mj_comPos + 4 x mj_jac (quadruped: the feet; arm: the last links; hand: the
 //            fingertips)
 // The MuJoCo models come from idto::MakeMjcf without geometry and sites (mj_kinematics would
 // otherwise also place every geom and site, work idto's kinematics does not do).
 
+#include <cmath>
 #include <cstring>
 #include <functional>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -174,6 +180,43 @@ void IdtoCrba(benchmark::State& state, const std::string& name) {
   idto::Data data(bm.model);
   for (auto _ : state) {
     benchmark::DoNotOptimize(idto::MassMatrix(bm.model, bm.q, &data).data());
+    benchmark::ClobberMemory();
+  }
+}
+
+void IdtoRneaDerivatives(benchmark::State& state, const std::string& name) {
+  const BenchModel& bm = GetBenchModel(name);
+  if (!bm.error.empty()) return state.SkipWithError(bm.error.c_str());
+  idto::Data data(bm.model);
+  for (auto _ : state) {
+    idto::ComputeRneaDerivatives(bm.model, bm.q, bm.v, bm.a, &data);
+    benchmark::DoNotOptimize(data.dtau_dq.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+void IdtoRneaDerivativesFd(benchmark::State& state, const std::string& name) {
+  const BenchModel& bm = GetBenchModel(name);
+  if (!bm.error.empty()) return state.SkipWithError(bm.error.c_str());
+  const idto::Model& model = bm.model;
+  idto::Data data(model);
+  const int nq = model.nq(), nv = model.nv();
+  Eigen::MatrixXd dtau_dq(nv, nq), dtau_dv(nv, nv), M(nv, nv);
+  Eigen::VectorXd q = bm.q, v = bm.v, a = bm.a, tau0(nv);
+  const double h = std::sqrt(std::numeric_limits<double>::epsilon());
+  auto column = [&](double* x, Eigen::MatrixXd* J, int col) {
+    const double x0 = *x;
+    *x = x0 + h;
+    const double step = *x - x0;  // the step actually applied
+    J->col(col) = (idto::InverseDynamics(model, q, v, a, &data) - tau0) / step;
+    *x = x0;
+  };
+  for (auto _ : state) {
+    tau0 = idto::InverseDynamics(model, q, v, a, &data);
+    for (int i = 0; i < nq; ++i) column(&q(i), &dtau_dq, i);
+    for (int i = 0; i < nv; ++i) column(&v(i), &dtau_dv, i);
+    for (int i = 0; i < nv; ++i) column(&a(i), &M, i);
+    benchmark::DoNotOptimize(dtau_dq.data());
     benchmark::ClobberMemory();
   }
 }
@@ -344,12 +387,16 @@ bool RegisterDynamicsBenchmarks() {
       {"RNEA", IdtoRnea, MujocoRnea},
       {"CRBA", IdtoCrba, MujocoCrba},
       {"Jacobians4", IdtoJacobians, MujocoJacobians},
+      {"RNEAderivs", IdtoRneaDerivatives, nullptr},
+      {"RNEAderivsFD", IdtoRneaDerivativesFd, nullptr},
 #else
       {"FKpos", IdtoFkPositions, nullptr},
       {"FK", IdtoFk, nullptr},
       {"RNEA", IdtoRnea, nullptr},
       {"CRBA", IdtoCrba, nullptr},
       {"Jacobians4", IdtoJacobians, nullptr},
+      {"RNEAderivs", IdtoRneaDerivatives, nullptr},
+      {"RNEAderivsFD", IdtoRneaDerivativesFd, nullptr},
 #endif
   };
   for (const char* model : {"arm7", "quadruped", "allegro_ball"}) {

@@ -17,6 +17,7 @@
 #include "idto/multibody/algorithms/dynamics.hpp"
 #include "idto/multibody/algorithms/jacobians.hpp"
 #include "idto/multibody/algorithms/kinematics.hpp"
+#include "idto/multibody/algorithms/rnea_derivatives.hpp"
 #include "idto/multibody/data.hpp"
 #include "idto/multibody/joint.hpp"
 #include "idto/multibody/model.hpp"

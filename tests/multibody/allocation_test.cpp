@@ -44,6 +44,8 @@ TEST(Allocation, AlgorithmsDoNotAllocateAfterDataIsBuilt) {
   CalcFrameJacobian(model, data, 3, Eigen::Isometry3d::Identity(), &J6);
   Integrate(model, q, v, 0.01, &q_next);
   Difference(model, q_next, q, &dv);
+  ComputeRneaDerivatives(model, q, v, a, &data);
+  ComputeRneaDerivatives(model, q, v, a, &F, &data);
   EXPECT_EQ(counter.count(), 0);
 }
 

@@ -2,24 +2,31 @@
 
 /// @file
 /// Quaternion and rotation helpers. Quaternions in q are stored [qw, qx, qy, qz] (design.md §3).
+/// The helpers the kernels use are templates on the scalar type; exp/log stay double.
 
 #include <cmath>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "idto/math/scalar.hpp"
+
 namespace idto {
 
 /// Rotation by `angle` about the unit vector `axis` (Rodrigues' formula).
-inline Eigen::Matrix3d AxisAngleRotation(const Eigen::Vector3d& axis, double angle) {
-  const double s = std::sin(angle);
-  const double c = std::cos(angle);
-  const double t = 1.0 - c;
+template <typename Scalar>
+inline Matrix3<Scalar> AxisAngleRotation(const NonDeduced<Eigen::Vector3d>& axis,
+                                         const Scalar& angle) {
+  using std::cos;
+  using std::sin;
+  const Scalar s = sin(angle);
+  const Scalar c = cos(angle);
+  const Scalar t = 1.0 - c;
   const double x = axis.x(), y = axis.y(), z = axis.z();
-  Eigen::Matrix3d R;
-  R << t * x * x + c, t * x * y - s * z, t * x * z + s * y,  //
-      t * x * y + s * z, t * y * y + c, t * y * z - s * x,   //
-      t * x * z - s * y, t * y * z + s * x, t * z * z + c;
+  Matrix3<Scalar> R;
+  R << t * (x * x) + c, t * (x * y) - s * z, t * (x * z) + s * y,  //
+      t * (x * y) + s * z, t * (y * y) + c, t * (y * z) - s * x,   //
+      t * (x * z) - s * y, t * (y * z) + s * x, t * (z * z) + c;
   return R;
 }
 
@@ -37,12 +44,14 @@ inline void QuaternionToWxyz(const Eigen::Quaterniond& Q, double* q) {
 }
 
 /// Rotation matrix of the normalized quaternion [qw, qx, qy, qz] at q (identity for a zero one).
-inline Eigen::Matrix3d RotationFromWxyz(const double* q) {
-  const double n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
-  if (!(n2 > 0.0)) return Eigen::Matrix3d::Identity();
-  const double s = 2.0 / n2;  // normalizes on the fly
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  Eigen::Matrix3d R;
+/// Depends on q only through q / |q|.
+template <typename Scalar>
+inline Matrix3<Scalar> RotationFromWxyz(const Scalar* q) {
+  const Scalar n2 = q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3];
+  if (!(n2 > 0.0)) return Matrix3<Scalar>::Identity();
+  const Scalar s = 2.0 / n2;  // normalizes on the fly
+  const Scalar &w = q[0], &x = q[1], &y = q[2], &z = q[3];
+  Matrix3<Scalar> R;
   R << 1.0 - s * (y * y + z * z), s * (x * y - w * z), s * (x * z + w * y),  //
       s * (x * y + w * z), 1.0 - s * (x * x + z * z), s * (y * z - w * x),   //
       s * (x * z - w * y), s * (y * z + w * x), 1.0 - s * (x * x + y * y);
@@ -52,9 +61,10 @@ inline Eigen::Matrix3d RotationFromWxyz(const double* q) {
 /// The 4 x 3 map G(q) with qdot = G(q) w for a quaternion q = [w, x, y, z] whose angular
 /// velocity w is expressed in the parent (fixed) frame: qdot = 1/2 [0; w] (x) q. G(q)^T q = 0 and
 /// G(q)^T G(q) = |q|^2 / 4 I.
-inline Eigen::Matrix<double, 4, 3> QuaternionRateMatrix(const double* q) {
-  const double w = q[0], x = q[1], y = q[2], z = q[3];
-  Eigen::Matrix<double, 4, 3> G;
+template <typename Scalar>
+inline Eigen::Matrix<Scalar, 4, 3> QuaternionRateMatrix(const Scalar* q) {
+  const Scalar &w = q[0], &x = q[1], &y = q[2], &z = q[3];
+  Eigen::Matrix<Scalar, 4, 3> G;
   G << -x, -y, -z,  //
       w, z, -y,     //
       -z, w, x,     //

@@ -1,7 +1,7 @@
 #include "idto/multibody/algorithms/jacobians.hpp"
 
-#include "../joint_kinematics.hpp"
 #include "idto/core/errors.hpp"
+#include "idto/multibody/algorithms/joint_kinematics.hpp"
 
 namespace idto {
 

@@ -1,99 +1,36 @@
-#include "idto/multibody/algorithms/kinematics.hpp"
-
 #include <cmath>
 
-#include "../joint_kinematics.hpp"
 #include "idto/core/errors.hpp"
 #include "idto/math/quaternion.hpp"
+#include "idto/multibody/algorithms/kinematics-inl.hpp"
 
 namespace idto {
 
-namespace {
-
-// World poses of every body; velocities too when v != nullptr.
-void Kinematics(const Model& model, const double* q, const double* v, Data* data) {
-  data->X_WB_[0] = RigidTransform::Identity();
-  data->w_WB_[0].setZero();
-  data->v_WBo_[0].setZero();
-  for (BodyIndex b = 1; b < model.num_bodies(); ++b) {
-    const BodyIndex mb = model.mobilized_body(b);
-    if (mb != b) {
-      // Welded: rigidly attached to its moving body.
-      const RigidTransform& X_WM = data->X_WB_[mb];
-      data->X_WB_[b] = X_WM * model.X_MB(b);
-      if (v != nullptr) {
-        data->w_WB_[b] = data->w_WB_[mb];
-        data->v_WBo_[b] = data->v_WBo_[mb] + data->w_WB_[mb].cross(data->X_WB_[b].p - X_WM.p);
-      }
-      continue;
-    }
-    RigidTransform& X_pi = data->X_pi_[b];
-    internal::CalcJointPose(model, b, q + model.position_start(b), &X_pi, &data->R_JB_[b]);
-    const BodyIndex p = model.moving_parent(b);
-    const RigidTransform& X_Wp = data->X_WB_[p];
-    RigidTransform& X_Wi = data->X_WB_[b];
-    X_Wi = X_Wp * X_pi;
-    if (v != nullptr) {
-      // Body-coordinate velocity, then world-aligned angular velocity and origin velocity.
-      const SpatialMotion vJ =
-          internal::JointMotion(model, b, data->R_JB_[b], v + model.velocity_start(b));
-      SpatialMotion& vi = data->vel_[b];
-      if (p == kWorldBody) {
-        vi = vJ;
-      } else {
-        vi = X_pi.InverseActOn(data->vel_[p]) + vJ;
-      }
-      data->w_WB_[b] = X_Wi.R * vi.w;
-      data->v_WBo_[b] = X_Wi.R * vi.v;
-    }
-  }
-}
-
-}  // namespace
+template void ForwardKinematics<double>(const Model&, const ConstVectorRef<double>&,
+                                        DataTpl<double>*);
+template void ForwardKinematics<double>(const Model&, const ConstVectorRef<double>&,
+                                        const ConstVectorRef<double>&, DataTpl<double>*);
+template void CalcNMatrix<double>(const Model&, const ConstVectorRef<double>&, MatrixX<double>*);
+template void CalcNplusMatrix<double>(const Model&, const ConstVectorRef<double>&,
+                                      MatrixX<double>*);
 
 void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q, Data* data) {
-  model.CheckConfiguration("ForwardKinematics", "q", q);
-  Kinematics(model, q.data(), nullptr, data);
+  ForwardKinematics<double>(model, q, data);
 }
 
 void ForwardKinematics(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                        const Eigen::Ref<const Eigen::VectorXd>& v, Data* data) {
-  model.CheckConfiguration("ForwardKinematics", "q", q);
-  model.CheckVelocity("ForwardKinematics", "v", v);
-  Kinematics(model, q.data(), v.data(), data);
+  ForwardKinematics<double>(model, q, v, data);
 }
 
 void CalcNMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                  Eigen::MatrixXd* N) {
-  model.CheckConfiguration("CalcNMatrix", "q", q);
-  N->setZero(model.nq(), model.nv());
-  for (BodyIndex b : model.moving_bodies()) {
-    const int iq = model.position_start(b), iv = model.velocity_start(b);
-    if (model.joint_type(b) == JointType::kFloating) {
-      N->block<4, 3>(iq, iv) = QuaternionRateMatrix(q.data() + iq);
-      N->block<3, 3>(iq + 4, iv + 3).setIdentity();
-    } else {
-      for (int k = 0; k < model.joint_nv(b); ++k) (*N)(iq + k, iv + k) = 1.0;
-    }
-  }
+  CalcNMatrix<double>(model, q, N);
 }
 
 void CalcNplusMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                      Eigen::MatrixXd* Nplus) {
-  model.CheckConfiguration("CalcNplusMatrix", "q", q);
-  Nplus->setZero(model.nv(), model.nq());
-  for (BodyIndex b : model.moving_bodies()) {
-    const int iq = model.position_start(b), iv = model.velocity_start(b);
-    if (model.joint_type(b) == JointType::kFloating) {
-      // E^T E = |q|^2 / 4 I, so the pseudo-inverse of E is (4 / |q|^2) E^T.
-      const Eigen::Matrix<double, 4, 3> E = QuaternionRateMatrix(q.data() + iq);
-      const double n2 = q.segment<4>(iq).squaredNorm();
-      Nplus->block<3, 4>(iv, iq) = (n2 > 0.0 ? 4.0 / n2 : 0.0) * E.transpose();
-      Nplus->block<3, 3>(iv + 3, iq + 4).setIdentity();
-    } else {
-      for (int k = 0; k < model.joint_nv(b); ++k) (*Nplus)(iv + k, iq + k) = 1.0;
-    }
-  }
+  CalcNplusMatrix<double>(model, q, Nplus);
 }
 
 void Integrate(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,

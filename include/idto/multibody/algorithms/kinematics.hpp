@@ -2,9 +2,15 @@
 
 /// @file
 /// Forward kinematics and configuration-space maps (quaternion joints).
+///
+/// ForwardKinematics, CalcNMatrix and CalcNplusMatrix are templates on the scalar type, defined
+/// in kinematics-inl.hpp; the double instantiation is compiled once in the library (extern
+/// template below). The non-template double overloads are the stable entry points; the templates
+/// deduce Scalar from the DataTpl<Scalar>* (or output matrix) argument only.
 
 #include <Eigen/Core>
 
+#include "idto/math/scalar.hpp"
 #include "idto/multibody/data.hpp"
 #include "idto/multibody/model.hpp"
 
@@ -25,6 +31,32 @@ void CalcNMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
 /// N+(q) (nv x nq), the left pseudo-inverse of N(q): N+(q) N(q) = I for unit quaternions.
 void CalcNplusMatrix(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
                      Eigen::MatrixXd* Nplus);
+
+/// Scalar-templated ForwardKinematics(q): body poses (q: nq).
+template <typename Scalar>
+void ForwardKinematics(const Model& model, const ConstVectorRef<Scalar>& q, DataTpl<Scalar>* data);
+
+/// Scalar-templated ForwardKinematics(q, v): body poses and velocities (q: nq, v: nv).
+template <typename Scalar>
+void ForwardKinematics(const Model& model, const ConstVectorRef<Scalar>& q,
+                       const ConstVectorRef<Scalar>& v, DataTpl<Scalar>* data);
+
+/// Scalar-templated N(q) (nq x nv, resized).
+template <typename Scalar>
+void CalcNMatrix(const Model& model, const ConstVectorRef<Scalar>& q, MatrixX<Scalar>* N);
+
+/// Scalar-templated N+(q) (nv x nq, resized).
+template <typename Scalar>
+void CalcNplusMatrix(const Model& model, const ConstVectorRef<Scalar>& q, MatrixX<Scalar>* Nplus);
+
+extern template void ForwardKinematics<double>(const Model&, const ConstVectorRef<double>&,
+                                               DataTpl<double>*);
+extern template void ForwardKinematics<double>(const Model&, const ConstVectorRef<double>&,
+                                               const ConstVectorRef<double>&, DataTpl<double>*);
+extern template void CalcNMatrix<double>(const Model&, const ConstVectorRef<double>&,
+                                         MatrixX<double>*);
+extern template void CalcNplusMatrix<double>(const Model&, const ConstVectorRef<double>&,
+                                             MatrixX<double>*);
 
 /// q_next = q "+" v * dt: exact exponential integration on quaternions (result normalized).
 /// q: nq, v: nv, q_next: nq (may alias q).
