@@ -58,10 +58,20 @@ void BindUrdf(py::module_& m) {
       .def_readwrite("prefix", &UrdfOptions::prefix)
       .def_readwrite("model_name", &UrdfOptions::model_name)
       .def_readwrite("box_inscribed_spheres", &UrdfOptions::box_inscribed_spheres);
-  m.def("parse_urdf", &ParseUrdfFile, py::arg("path"), py::arg("options") = UrdfOptions(),
-        "A Model from a URDF file (raises FileError naming the file and element).");
-  m.def("parse_urdf_string", &ParseUrdfString, py::arg("urdf_xml"),
-        py::arg("options") = UrdfOptions(), py::arg("source_name") = "<urdf string>");
+  m.def(
+      "parse_urdf",
+      [](const std::string& path, const UrdfOptions& options) {
+        return ParseUrdfFile(path, options);
+      },
+      py::arg("path"), py::arg("options") = UrdfOptions(),
+      "A Model from a URDF file (raises FileError naming the file and element).");
+  m.def(
+      "parse_urdf_string",
+      [](const std::string& urdf_xml, const UrdfOptions& options, const std::string& source) {
+        return ParseUrdfString(urdf_xml, options, source);
+      },
+      py::arg("urdf_xml"), py::arg("options") = UrdfOptions(),
+      py::arg("source_name") = "<urdf string>");
 }
 
 std::vector<std::string> Names(int n, const std::function<const std::string&(int)>& name) {

@@ -58,6 +58,12 @@ std::uint64_t NextEngineId() {
 
 ContactEngine::ContactEngine(const Model& model, const ContactOptions& options)
     : options_(options), id_(NextEngineId()) {
+  ValidateOptions(model);
+  DecidePairs(model);
+  SetUpBroadPhase(model);
+}
+
+void ContactEngine::ValidateOptions(const Model& model) const {
   static constexpr const char* kWhere = "ContactEngine";
   options_.parameters.Validate("ContactEngine: options.parameters");
   CheckNonNegative(kWhere, "options.force_tolerance", options_.force_tolerance);
@@ -81,7 +87,9 @@ ContactEngine::ContactEngine(const Model& model, const ContactOptions& options)
     CheckName(model, key, options_.overrides[i].a);
     CheckName(model, key, options_.overrides[i].b);
   }
+}
 
+void ContactEngine::DecidePairs(const Model& model) {
   const std::vector<GeometryInstance>& geos = model.geometries();
   const int ng = static_cast<int>(geos.size());
   bound_center_B_.resize(ng);
@@ -157,7 +165,11 @@ ContactEngine::ContactEngine(const Model& model, const ContactOptions& options)
       pairs_.push_back(pair);
     }
   }
+}
 
+void ContactEngine::SetUpBroadPhase(const Model& model) {
+  const std::vector<GeometryInstance>& geos = model.geometries();
+  const int ng = static_cast<int>(geos.size());
   // Broad phase: pairs (static bounded geometry, moving geometry) go through a hierarchy when
   // pruning is on and there are enough of them to matter.
   int num_static_pairs = 0;

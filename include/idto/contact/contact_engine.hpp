@@ -165,6 +165,11 @@ class ContactEngine {
   double max_cutoff_{0.0};
   bool use_bvh_{false};
 
+  // The constructor's three steps: option names checked against the model; the pairs that can
+  // touch (with their parameters and cut-off distances); the broad phase over static geometry.
+  void ValidateOptions(const Model& model) const;
+  void DecidePairs(const Model& model);
+  void SetUpBroadPhase(const Model& model);
   int BuildBvh(int first, int count);
   // World-frame centre of the bounding sphere of moving geometry moving_with_static_[m].
   Eigen::Vector3d MovingCenter(const Data& data, int m) const;
