@@ -21,11 +21,10 @@ class FiniteDifferenceEvaluator final : public TauDerivativeEvaluator {
   FiniteDifferenceEvaluator(bool central, double relative_step)
       : central_(central),
         relative_step_(relative_step > 0.0 ? relative_step
-                       : central ? std::cbrt(std::numeric_limits<double>::epsilon())
-                                 : std::sqrt(std::numeric_limits<double>::epsilon())) {}
+                       : central           ? std::cbrt(std::numeric_limits<double>::epsilon())
+                                           : std::sqrt(std::numeric_limits<double>::epsilon())) {}
 
-  void Calc(const TrajectoryState& s, Transcription* t,
-            TrajectoryDerivatives* d) const override {
+  void Calc(const TrajectoryState& s, Transcription* t, TrajectoryDerivatives* d) const override {
     ParallelFor(1, t->num_steps() + 1, t->num_threads(), [&](int k, int thread) {
       TranscriptionWorkspace& ws = t->workspace(thread);
       DifferenceStep(s, k, t, &ws, d);
@@ -49,8 +48,8 @@ class FiniteDifferenceEvaluator final : public TauDerivativeEvaluator {
     const std::vector<char>* moved = &t.bodies_moved_by(i);
     CalcDiscreteVelocity(t.model(), ws->q, s.q[k - 1], dt, &ws->v);
     ws->a = (ws->v - s.v[k - 1]) / dt;
-    t.CalcTau(ws->q, ws->v, ws->a, ws, out_prev, nullptr,
-              contact ? &s.contact[k - 1] : nullptr, contact ? moved : nullptr);
+    t.CalcTau(ws->q, ws->v, ws->a, ws, out_prev, nullptr, contact ? &s.contact[k - 1] : nullptr,
+              contact ? moved : nullptr);
     if (k < t.num_steps()) {
       CalcDiscreteVelocity(t.model(), s.q[k + 1], ws->q, dt, &ws->v_next);
       ws->a_next = (ws->v_next - ws->v) / dt;
@@ -60,8 +59,8 @@ class FiniteDifferenceEvaluator final : public TauDerivativeEvaluator {
   }
 
   // Columns of d tau_{k-1} / d q_k and d tau_k / d q_k.
-  void DifferenceStep(const TrajectoryState& s, int k, Transcription* t,
-                      TranscriptionWorkspace* ws, TrajectoryDerivatives* d) const {
+  void DifferenceStep(const TrajectoryState& s, int k, Transcription* t, TranscriptionWorkspace* ws,
+                      TrajectoryDerivatives* d) const {
     const int N = t->num_steps();
     ws->q = s.q[k];
     for (int i = 0; i < t->nq(); ++i) {

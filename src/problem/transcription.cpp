@@ -65,8 +65,8 @@ void Transcription::SetPenaltyWeight(double weight) {
 
 void Transcription::SetNumThreads(int num_threads) {
   if (num_threads < 1) {
-    ThrowInvalidArgument("Transcription::SetNumThreads", "num_threads",
-                         std::to_string(num_threads), ">= 1");
+    ThrowInvalidArgument("Transcription::SetNumThreads", "num_threads", std::to_string(num_threads),
+                         ">= 1");
   }
   num_threads_ = num_threads;
   workspaces_.reserve(num_threads);
@@ -134,8 +134,7 @@ TrajectoryDerivatives Transcription::MakeDerivatives() const {
 void Transcription::CalcTau(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                             const Eigen::VectorXd& a, TranscriptionWorkspace* ws,
                             Eigen::VectorXd* tau, ContactData* contact,
-                            const ContactData* reuse_from,
-                            const std::vector<char>* moved) const {
+                            const ContactData* reuse_from, const std::vector<char>* moved) const {
   const ContactReuse reuse{reuse_from, moved};
   *tau = InverseDynamicsWithContact(model_, engine(), q, v, a, &ws->data,
                                     contact != nullptr ? contact : &ws->contact,

@@ -69,8 +69,7 @@ class TrajectoryOptimizer::Impl {
     transcription_.SetPenaltyWeight(
         options_.constraint_method == ConstraintMethod::kPenalty ? options_.penalty_weight : 0.0);
     transcription_.SetNumThreads(options_.num_threads);
-    transcription_.SetDerivativeMethod(options_.derivative_method,
-                                       options_.finite_difference_step);
+    transcription_.SetDerivativeMethod(options_.derivative_method, options_.finite_difference_step);
     if (lagrange() && h_.size() != N_ * nu_) {
       h_ = lambda_ = Eigen::VectorXd::Zero(N_ * nu_);
       A_.Resize(N_, nq_, nu_);
@@ -127,7 +126,8 @@ class TrajectoryOptimizer::Impl {
     const Clock::time_point t2 = Clock::now();
     s->time_hessian = Seconds(t1, t2);
     internal::CalcScaling(H_, options_.scaling, &D_);
-    const bool factored = internal::FactorizeWithShift(&H_, &chol_, &scratch_a_, &s->regularization);
+    const bool factored =
+        internal::FactorizeWithShift(&H_, &chol_, &scratch_a_, &s->regularization);
     const Clock::time_point t3 = Clock::now();
     s->time_factorization = Seconds(t2, t3);
     if (!factored) {
@@ -146,8 +146,9 @@ class TrajectoryOptimizer::Impl {
     }
     internal::CalcCauchyPoint(H_, g_merit_, D_, &scratch_a_, &scratch_b_, &p_cauchy_);
     if (!AllFinite(p_newton_) || !AllFinite(p_cauchy_)) {
-      return Fail(summary, "the Newton or Cauchy step is not finite (non-finite derivatives); "
-                           "last good iterate kept");
+      return Fail(summary,
+                  "the Newton or Cauchy step is not finite (non-finite derivatives); "
+                  "last good iterate kept");
     }
     return true;
   }
@@ -193,8 +194,7 @@ class TrajectoryOptimizer::Impl {
     trial_merit_ = lagrange() ? transcription_.Merit(trial_, lambda_) : trial_cost;
     const std::uint64_t cost_ticks = TicksSince(kc);
     s->time_cost = Seconds(tc, Clock::now());
-    s->time_contact +=
-        TicksToSeconds(transcription_.TakeContactTicks(), cost_ticks, s->time_cost);
+    s->time_contact += TicksToSeconds(transcription_.TakeContactTicks(), cost_ticks, s->time_cost);
     s->trial_cost = trial_cost;
     s->ratio = internal::ReductionRatio(merit_, trial_merit_, predicted);
     trust_radius_ = internal::UpdateTrustRadius(s->ratio, s->scaled_step_norm, trust_radius_,
@@ -279,8 +279,8 @@ class TrajectoryOptimizer::Impl {
     }
     summary.log.reserve(options_.max_iterations);
     bool need_derivatives = true;
-    for (int it = 0; it < options_.max_iterations &&
-                     summary.termination == TerminationType::kMaxIterations;
+    for (int it = 0;
+         it < options_.max_iterations && summary.termination == TerminationType::kMaxIterations;
          ++it) {
       IterationSummary s;
       s.iteration = it;
@@ -302,8 +302,8 @@ class TrajectoryOptimizer::Impl {
       summary.log.push_back(s);
       ++summary.iterations;
       if (options_.verbosity > 0) {
-        std::printf("%4d cost %.6e rho %.3e radius %.3e %s\n", it, s.cost, s.ratio,
-                    s.trust_radius, s.accepted ? "accepted" : "rejected");
+        std::printf("%4d cost %.6e rho %.3e radius %.3e %s\n", it, s.cost, s.ratio, s.trust_radius,
+                    s.accepted ? "accepted" : "rejected");
       }
       RunCallbacks(&summary);
     }
@@ -339,13 +339,13 @@ class TrajectoryOptimizer::Impl {
   int N_{0}, nq_{0}, nu_{0};
   std::vector<IterationCallback> callbacks_;
 
-  TrajectoryState x_;      // the iterate (q_0 = q_init) and what follows from it
-  TrajectoryState trial_;  // the trial point x + p
+  TrajectoryState x_;                  // the iterate (q_0 = q_init) and what follows from it
+  TrajectoryState trial_;              // the trial point x + p
   TrajectoryDerivatives derivatives_;  // at x_
   PentaDiagonalMatrix H_;              // Gauss-Newton Hessian at x_ (with any LM shift)
   PentaDiagonalCholesky chol_;         // its factor
-  BlockConstraintJacobian A_;  // dh/dq at x_ by blocks (Lagrange method)
-  BandedKktSolver kkt_;        // its KKT factorization with H_
+  BlockConstraintJacobian A_;          // dh/dq at x_ by blocks (Lagrange method)
+  BandedKktSolver kkt_;                // its KKT factorization with H_
   // N nq each: gradient of L; of the merit L + h^T lambda; scaling D; the step; Newton and
   // Cauchy points; scratch of the trust-region functions (no fixed meaning between calls).
   Eigen::VectorXd g_, g_merit_, D_, p_, p_newton_, p_cauchy_, scratch_a_, scratch_b_;

@@ -95,8 +95,7 @@ double ReductionRatio(double merit, double trial_merit, double predicted) {
   return (merit - trial_merit) / predicted;
 }
 
-double UpdateTrustRadius(double ratio, double scaled_step_norm, double radius,
-                         double max_radius) {
+double UpdateTrustRadius(double ratio, double scaled_step_norm, double radius, double max_radius) {
   if (ratio < 0.25) return 0.25 * scaled_step_norm;
   if (ratio > 0.75 && scaled_step_norm >= radius * (1.0 - 1e-12)) {
     return std::min(2.0 * radius, max_radius);

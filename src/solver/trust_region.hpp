@@ -49,8 +49,7 @@ double ReductionRatio(double merit, double trial_merit, double predicted);
 
 // Radius update (Nocedal & Wright, Algorithm 4.1): shrink to a quarter of the step when
 // rho < 1/4; double (up to max_radius) when rho > 3/4 and the step reached the boundary.
-double UpdateTrustRadius(double ratio, double scaled_step_norm, double radius,
-                         double max_radius);
+double UpdateTrustRadius(double ratio, double scaled_step_norm, double radius, double max_radius);
 
 // Convergence tests after an accepted step; on success *message says which one held.
 bool CostChangeConverged(double previous, double cost, const SolverOptions& options,

@@ -29,8 +29,8 @@ const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
 const char* kBaselineFile = IDTO_TEST_DATA_DIR "/baseline/solver_baseline.txt";
 
 const std::vector<std::string> kExamples = {
-    "pendulum", "acrobot",  "spinner",  "hopper",   "quadruped", "quadruped_hills",
-    "allegro",  "bimanual", "bimanual_lift", "bimanual_balance"};
+    "pendulum",        "acrobot", "spinner",  "hopper",        "quadruped",
+    "quadruped_hills", "allegro", "bimanual", "bimanual_lift", "bimanual_balance"};
 
 struct Result {
   double final_cost{0.0};

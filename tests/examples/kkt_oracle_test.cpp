@@ -94,8 +94,8 @@ void CompareAt(const ExampleConfig& config, const std::vector<Eigen::VectorXd>& 
   auto backward = [&](const Step& x) {
     const VectorXld p = x.p.cast<long double>(), l = x.lambda.cast<long double>();
     const VectorXld r1 = Hl * p + Atl * l + gl, r2 = Atl.transpose() * p + hl;
-    const long double scale = Hl.norm() * p.norm() + Atl.norm() * (l.norm() + p.norm()) +
-                              gl.norm() + hl.norm();
+    const long double scale =
+        Hl.norm() * p.norm() + Atl.norm() * (l.norm() + p.norm()) + gl.norm() + hl.norm();
     return static_cast<double>(std::sqrt(r1.squaredNorm() + r2.squaredNorm()) / scale);
   };
   const double b = backward(banded), b_double = backward(dense_double);
@@ -130,8 +130,9 @@ TEST_P(KktOracle, BandedStepEqualsTheDenseFormula) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Examples, KktOracle,
-                         ::testing::Values("acrobot", "spinner", "hopper", "quadruped", "quadruped_hills", "allegro",
-                                           "bimanual", "bimanual_lift", "bimanual_balance"));
+                         ::testing::Values("acrobot", "spinner", "hopper", "quadruped",
+                                           "quadruped_hills", "allegro", "bimanual",
+                                           "bimanual_lift", "bimanual_balance"));
 
 }  // namespace
 }  // namespace idto

@@ -19,10 +19,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const std::map<std::string, int> kLayer = {
-    {"core", 0},    {"math", 1},   {"geometry", 2}, {"multibody", 3}, {"parsers", 4},
-    {"contact", 4}, {"problem", 5}, {"solver", 6},  {"sim", 7},       {"mpc", 8},
-    {"config", 9},  {"viz", 10}};
+const std::map<std::string, int> kLayer = {{"core", 0},      {"math", 1},    {"geometry", 2},
+                                           {"multibody", 3}, {"parsers", 4}, {"contact", 4},
+                                           {"problem", 5},   {"solver", 6},  {"sim", 7},
+                                           {"mpc", 8},       {"config", 9},  {"viz", 10}};
 
 struct SourceFile {
   fs::path path;
@@ -54,8 +54,8 @@ TEST(Layers, SourcesWereFound) {
   EXPECT_GT(files.size(), 50u);
   for (const SourceFile& f : files) {
     if (f.module.empty()) continue;  // idto.hpp, the umbrella header
-    EXPECT_TRUE(kLayer.count(f.module)) << f.path << ": module '" << f.module
-                                        << "' has no place in the layer order";
+    EXPECT_TRUE(kLayer.count(f.module))
+        << f.path << ": module '" << f.module << "' has no place in the layer order";
   }
 }
 
@@ -119,7 +119,8 @@ std::string StripLiterals(const std::string& line, bool* in_comment) {
 // A function body opens where a '{' follows a ')' (possibly with const/override/noexcept or
 // a constructor's initializer list in between) at namespace or class scope.
 TEST(Layers, NoFunctionOver100Lines) {
-  const std::regex opener_re(R"(\)\s*(const|override|final|noexcept|\s)*(->\s*[\w:<>,\s*&]+)?\s*\{\s*$)");
+  const std::regex opener_re(
+      R"(\)\s*(const|override|final|noexcept|\s)*(->\s*[\w:<>,\s*&]+)?\s*\{\s*$)");
   for (const SourceFile& f : CollectSources()) {
     if (f.path.filename().string().find("raw_") == 0) continue;
     bool in_comment = false;
@@ -129,11 +130,10 @@ TEST(Layers, NoFunctionOver100Lines) {
     for (size_t i = 0; i < f.lines.size(); ++i) {
       const std::string code = StripLiterals(f.lines[i], &in_comment);
       const bool opens_function =
-          function_depth < 0 &&
-          (std::regex_search(code, opener_re) ||
-           (code.find_first_not_of(" \t") != std::string::npos &&
-            code.substr(code.find_first_not_of(" \t")) == "{" &&
-            previous.find(')') != std::string::npos));
+          function_depth < 0 && (std::regex_search(code, opener_re) ||
+                                 (code.find_first_not_of(" \t") != std::string::npos &&
+                                  code.substr(code.find_first_not_of(" \t")) == "{" &&
+                                  previous.find(')') != std::string::npos));
       for (char c : code) {
         if (c == '{') {
           if (opens_function && function_depth < 0) {

@@ -1,8 +1,9 @@
 #pragma once
 
-// A fixed-seed mutation fuzzer over the shipped URDF files (models/ and tests/data/urdf/reference/):
-// every mutated text must either load into a model with finite numbers, or throw a FileError that
-// names the source. Used by urdf_fuzz_test.cpp (a short run) and heavy/urdf_fuzz_heavy_test.cpp.
+// A fixed-seed mutation fuzzer over the shipped URDF files (models/ and
+// tests/data/urdf/reference/): every mutated text must either load into a model with finite
+// numbers, or throw a FileError that names the source. Used by urdf_fuzz_test.cpp (a short run) and
+// heavy/urdf_fuzz_heavy_test.cpp.
 
 #include <gtest/gtest.h>
 
@@ -26,7 +27,7 @@ namespace testing_urdf_fuzz {
 inline std::vector<std::string> ShippedUrdfTexts() {
   std::vector<std::string> texts;
   for (const std::string& dir : {std::string(IDTO_SOURCE_DIR) + "/models",
-                                std::string(IDTO_TEST_DATA_DIR) + "/urdf/reference"}) {
+                                 std::string(IDTO_TEST_DATA_DIR) + "/urdf/reference"}) {
     std::vector<std::filesystem::path> paths;
     for (const auto& entry : std::filesystem::directory_iterator(dir)) {
       if (entry.path().extension() == ".urdf") paths.push_back(entry.path());
@@ -46,8 +47,8 @@ inline std::vector<std::string> ShippedUrdfTexts() {
 inline std::string Mutate(const std::string& text, std::mt19937* rng) {
   static const std::vector<std::string> kValues = {
       "nan", "inf", "-inf", "-1", "0", "1O", "0.O5", "1e999", "", "1 2", "nan 1 1", "1e-300", "+2"};
-  static const std::vector<std::string> kTags = {"capsule", "drake:capsule", "mesh", "foo",
-                                                 "sphere", "link", "joint", "inertial", "mimic"};
+  static const std::vector<std::string> kTags = {
+      "capsule", "drake:capsule", "mesh", "foo", "sphere", "link", "joint", "inertial", "mimic"};
   std::string s = text;
   auto pick = [&](size_t n) { return std::uniform_int_distribution<size_t>(0, n - 1)(*rng); };
   switch (pick(6)) {

@@ -19,7 +19,7 @@ namespace idto {
 /// An earlier evaluation whose results pairs between unmoved bodies may reuse (the finite
 /// differences: perturbing one coordinate moves only the bodies downstream of its joint).
 struct ContactReuse {
-  const ContactData* reference{nullptr};          ///< evaluation of the same engine
+  const ContactData* reference{nullptr};         ///< evaluation of the same engine
   const std::vector<char>* body_moved{nullptr};  ///< num_bodies flags
 };
 
@@ -37,10 +37,12 @@ void CalcKinematicsAndContact(const Model& model, const ContactEngine& engine,
 /// forces of `engine` at (q, v). `engine` may be null (no contact): plain inverse dynamics.
 /// *contact receives the contact evaluation (unused when engine is null); `reuse` and
 /// `contact_ticks` as in CalcKinematicsAndContact. Returns data->tau. Allocation-free.
-const Eigen::VectorXd& InverseDynamicsWithContact(
-    const Model& model, const ContactEngine* engine, const Eigen::Ref<const Eigen::VectorXd>& q,
-    const Eigen::Ref<const Eigen::VectorXd>& v, const Eigen::Ref<const Eigen::VectorXd>& a,
-    Data* data, ContactData* contact, const ContactReuse* reuse = nullptr,
-    std::uint64_t* contact_ticks = nullptr);
+const Eigen::VectorXd& InverseDynamicsWithContact(const Model& model, const ContactEngine* engine,
+                                                  const Eigen::Ref<const Eigen::VectorXd>& q,
+                                                  const Eigen::Ref<const Eigen::VectorXd>& v,
+                                                  const Eigen::Ref<const Eigen::VectorXd>& a,
+                                                  Data* data, ContactData* contact,
+                                                  const ContactReuse* reuse = nullptr,
+                                                  std::uint64_t* contact_ticks = nullptr);
 
 }  // namespace idto

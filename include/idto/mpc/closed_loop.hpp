@@ -50,9 +50,9 @@ struct ClosedLoopLog {
   std::vector<Eigen::VectorXd> contact;  ///< contact force magnitude per body, N
   /// The configuration the plan in force asked for at each log time (q_d of the PD+), nq each.
   std::vector<Eigen::VectorXd> q_plan;
-  std::vector<double> replan_time;       ///< time of each re-plan, s
-  std::vector<double> solve_time;        ///< wall-clock seconds of each re-plan
-  std::vector<int> solve_status;         ///< TerminationType of each re-plan
+  std::vector<double> replan_time;  ///< time of each re-plan, s
+  std::vector<double> solve_time;   ///< wall-clock seconds of each re-plan
+  std::vector<int> solve_status;    ///< TerminationType of each re-plan
   int num_rejected_plans{0};
   double control_period{0.0};
   /// Empty unless the plant failed (threw from Advance); the run stopped at failure_time.

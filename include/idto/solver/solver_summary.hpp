@@ -9,10 +9,10 @@
 namespace idto {
 
 enum class TerminationType {
-  kConverged,       ///< a convergence criterion was met
-  kMaxIterations,   ///< ran out of iterations (the normal outcome with fixed_iterations)
-  kFailure,         ///< numerical trouble (non-finite cost, failed factorization); last good
-                    ///< iterate kept
+  kConverged,        ///< a convergence criterion was met
+  kMaxIterations,    ///< ran out of iterations (the normal outcome with fixed_iterations)
+  kFailure,          ///< numerical trouble (non-finite cost, failed factorization); last good
+                     ///< iterate kept
   kUserTermination,  ///< a callback asked to stop, successfully (kTerminateSuccessfully)
   kUserAbort         ///< a callback aborted the solve (kAbort); last good iterate kept
 };

@@ -27,9 +27,9 @@ struct Trajectory {
 /// What a callback returns after each iteration (Ceres' SOLVER_CONTINUE /
 /// SOLVER_TERMINATE_SUCCESSFULLY / SOLVER_ABORT).
 enum class CallbackReturn {
-  kContinue,                ///< go on
-  kTerminateSuccessfully,   ///< stop: the iterate is good (TerminationType::kUserTermination)
-  kAbort,                   ///< stop: something is wrong (TerminationType::kUserAbort)
+  kContinue,               ///< go on
+  kTerminateSuccessfully,  ///< stop: the iterate is good (TerminationType::kUserTermination)
+  kAbort,                  ///< stop: something is wrong (TerminationType::kUserAbort)
   kTerminate = kTerminateSuccessfully  ///< the earlier spelling of kTerminateSuccessfully
 };
 using IterationCallback = std::function<CallbackReturn(const IterationSummary&)>;
