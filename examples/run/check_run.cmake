@@ -1,6 +1,6 @@
 # Runs a program and checks its exit code and, optionally, keys of the JSON summary it wrote.
 #   cmake -DPROGRAM=... "-DARGS=a|b|c" -DEXPECTED_EXIT=0 [-DSUMMARY=file.json]
-#         ["-DEXPECT_JSON=key=value|key=value"] [-DEXPECT_STDERR=text] -P check_run.cmake
+#         ["-DEXPECT_JSON=key=value|key=value"] ["-DEXPECT_STDERR=text|text"] -P check_run.cmake
 # JSON values are compared as the text string(JSON GET) returns (booleans: ON/OFF).
 string(REPLACE "|" ";" ARGS "${ARGS}")
 string(REPLACE "|" ";" EXPECT_JSON "${EXPECT_JSON}")
@@ -17,10 +17,13 @@ if(NOT rc STREQUAL "${EXPECTED_EXIT}")
   message(FATAL_ERROR "exit code ${rc}; expected ${EXPECTED_EXIT}")
 endif()
 if(DEFINED EXPECT_STDERR)
-  string(FIND "${err}" "${EXPECT_STDERR}" pos)
-  if(pos EQUAL -1)
-    message(FATAL_ERROR "stderr does not contain '${EXPECT_STDERR}'")
-  endif()
+  string(REPLACE "|" ";" EXPECT_STDERR "${EXPECT_STDERR}")
+  foreach(text ${EXPECT_STDERR})
+    string(FIND "${err}" "${text}" pos)
+    if(pos EQUAL -1)
+      message(FATAL_ERROR "stderr does not contain '${text}'")
+    endif()
+  endforeach()
 endif()
 if(DEFINED SUMMARY)
   if(NOT EXISTS "${SUMMARY}")

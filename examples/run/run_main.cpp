@@ -2,8 +2,9 @@
 // reports the result.
 //
 //   idto-run CONFIG.yaml|NAME [--max-iterations N] [--threads N]
-//            [--constraints none|penalty|lagrange] [--mpc] [--summary-json FILE]
-//            [--trajectory-csv FILE] [--stats-csv FILE] [--html FILE] [--quiet]
+//            [--constraints none|penalty|lagrange] [--derivatives analytic|forward|central]
+//            [--mpc] [--summary-json FILE] [--trajectory-csv FILE] [--stats-csv FILE]
+//            [--html FILE] [--quiet]
 //
 // NAME is an example's name: examples/NAME/NAME.yaml under $IDTO_SHARE_DIR, the source tree (for
 // programs run from the build tree) or <bin>/../share/idto (the install tree).
@@ -46,6 +47,7 @@
 namespace {
 
 using idto::ConstraintMethod;
+using idto::DerivativeMethod;
 using idto::ExampleConfig;
 using idto::IterationSummary;
 using idto::SolverSummary;
@@ -66,6 +68,8 @@ const char kUsage[] =
     "  --max-iterations N                 override solver.max_iterations (N >= 0)\n"
     "  --threads N                        override solver.num_threads (N >= 1)\n"
     "  --constraints none|penalty|lagrange  override solver.constraint_method\n"
+    "  --derivatives analytic|forward|central\n"
+    "                                     override solver.derivative_method\n"
     "  --mpc                              closed-loop MPC against a plant (the mpc: section)\n"
     "  --summary-json FILE                write the JSON summary to FILE\n"
     "  --trajectory-csv FILE              write t, q, v, tau per time step to FILE\n"
@@ -82,6 +86,7 @@ struct Arguments {
   std::optional<int> max_iterations;
   std::optional<int> threads;
   std::optional<ConstraintMethod> constraints;
+  std::optional<DerivativeMethod> derivatives;
   bool mpc{false};
   bool quiet{false};
   bool help{false};
@@ -156,6 +161,17 @@ Arguments ParseArguments(int argc, char** argv) {
         args.constraints = ConstraintMethod::kLagrangeMultipliers;
       } else {
         throw UsageError{"--constraints is '" + text + "'; expected none, penalty or lagrange"};
+      }
+    } else if (arg == "--derivatives") {
+      const std::string text = take_value();
+      if (text == "analytic") {
+        args.derivatives = DerivativeMethod::kAnalytic;
+      } else if (text == "forward") {
+        args.derivatives = DerivativeMethod::kForwardDifferences;
+      } else if (text == "central") {
+        args.derivatives = DerivativeMethod::kCentralDifferences;
+      } else {
+        throw UsageError{"--derivatives is '" + text + "'; expected analytic, forward or central"};
       }
     } else if (arg == "--mpc") {
       no_value();
@@ -582,6 +598,7 @@ int Run(const Arguments& args, const char* argv0) {
   if (args.max_iterations) options.max_iterations = *args.max_iterations;
   if (args.threads) options.num_threads = *args.threads;
   if (args.constraints) options.constraint_method = *args.constraints;
+  if (args.derivatives) options.derivative_method = *args.derivatives;
   options.verbosity = 0;  // the table below replaces the solver's own printing
   std::string why;
   if (!options.IsValid(&why)) {
@@ -667,6 +684,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
   idto::SolverOptions options = config.mpc_solver.value_or(config.solver);
   if (args.threads) options.num_threads = *args.threads;
   if (args.constraints) options.constraint_method = *args.constraints;
+  if (args.derivatives) options.derivative_method = *args.derivatives;
   options.verbosity = 0;
   for (const std::string& file : {args.summary_json, args.trajectory_csv, args.stats_csv}) {
     if (!file.empty()) WriteFile(file, "", "output file");

@@ -102,7 +102,8 @@ void BindSolverOptions(py::module_& m) {
   m.def("constraint_method_name", &ConstraintMethodName);
   py::enum_<DerivativeMethod>(m, "DerivativeMethod")
       .value("kForwardDifferences", DerivativeMethod::kForwardDifferences)
-      .value("kCentralDifferences", DerivativeMethod::kCentralDifferences);
+      .value("kCentralDifferences", DerivativeMethod::kCentralDifferences)
+      .value("kAnalytic", DerivativeMethod::kAnalytic);
   py::enum_<ScalingMethod>(m, "ScalingMethod")
       .value("kNone", ScalingMethod::kNone)
       .value("kSqrt", ScalingMethod::kSqrt)

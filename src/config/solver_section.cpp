@@ -21,7 +21,8 @@ static_assert(static_cast<int>(ConstraintMethod::kNone) == 0 &&
                   static_cast<int>(ConstraintMethod::kLagrangeMultipliers) == 2,
               "ConstraintMethod order");
 static_assert(static_cast<int>(DerivativeMethod::kForwardDifferences) == 0 &&
-                  static_cast<int>(DerivativeMethod::kCentralDifferences) == 1,
+                  static_cast<int>(DerivativeMethod::kCentralDifferences) == 1 &&
+                  static_cast<int>(DerivativeMethod::kAnalytic) == 2,
               "DerivativeMethod order");
 static_assert(static_cast<int>(ScalingMethod::kNone) == 0 &&
                   static_cast<int>(ScalingMethod::kSqrt) == 1 &&
@@ -40,8 +41,9 @@ void ConfigLoader::LoadSolver(const YAML::Node& node, const std::string& path) {
   o.constraint_method = static_cast<ConstraintMethod>(s.Enum(
       "constraint_method", {"none", "penalty", "lagrange"}, static_cast<int>(o.constraint_method)));
   o.penalty_weight = s.NonNegative("penalty_weight", o.penalty_weight);
-  o.derivative_method = static_cast<DerivativeMethod>(
-      s.Enum("derivative_method", {"forward", "central"}, static_cast<int>(o.derivative_method)));
+  o.derivative_method =
+      static_cast<DerivativeMethod>(s.Enum("derivative_method", {"forward", "central", "analytic"},
+                                           static_cast<int>(o.derivative_method)));
   o.finite_difference_step = s.NonNegative("finite_difference_step", o.finite_difference_step);
   o.scaling = static_cast<ScalingMethod>(
       s.Enum("scaling", {"none", "sqrt", "double_sqrt"}, static_cast<int>(o.scaling)));

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "idto/contact/contact_law-inl.hpp"
 #include "idto/core/errors.hpp"
 
 namespace idto {
@@ -14,16 +15,9 @@ void ContactParameters::Validate(const std::string& where) const {
   CheckPositive(where, "contact stiction_velocity", stiction_velocity);
 }
 
-double Softplus(double x) {
-  // log(1 + e^x) = max(x, 0) + log1p(e^-|x|): no overflow, full precision in both tails.
-  return std::max(x, 0.0) + std::log1p(std::exp(-std::abs(x)));
-}
+double Softplus(double x) { return internal::SoftplusTpl<double>(x); }
 
-double Logistic(double x) {
-  if (x >= 0.0) return 1.0 / (1.0 + std::exp(-x));
-  const double e = std::exp(x);
-  return e / (1.0 + e);
-}
+double Logistic(double x) { return internal::LogisticTpl<double>(x); }
 
 void ComplianceAndDerivative(const ContactParameters& p, double phi, double* c, double* dc_dphi) {
   const double x = -phi / p.smoothing;
@@ -32,38 +26,17 @@ void ComplianceAndDerivative(const ContactParameters& p, double phi, double* c, 
 }
 
 void DissipationAndDerivative(const ContactParameters& p, double vn, double* d, double* dd_dvn) {
-  const double x = vn / p.dissipation_velocity;
-  if (x < 0.0) {
-    *d = 1.0 - x;
-    *dd_dvn = -1.0 / p.dissipation_velocity;
-  } else if (x < 2.0) {
-    *d = 0.25 * (x - 2.0) * (x - 2.0);
-    *dd_dvn = 0.5 * (x - 2.0) / p.dissipation_velocity;
-  } else {
-    *d = 0.0;
-    *dd_dvn = 0.0;
-  }
+  internal::DissipationTpl<double>(p, vn, d, dd_dvn);
 }
+
+template ContactForceTpl<double> CalcContactForceTpl<double>(const ContactParameters&,
+                                                             const double&, const double&,
+                                                             const Eigen::Vector3d&,
+                                                             const Eigen::Vector3d&);
 
 ContactForce CalcContactForce(const ContactParameters& p, double phi, double vn,
                               const Eigen::Vector3d& vt, const Eigen::Vector3d& normal) {
-  ContactForce out;
-  double dc_dphi, dd_dvn;
-  ComplianceAndDerivative(p, phi, &out.compliance, &dc_dphi);
-  DissipationAndDerivative(p, vn, &out.dissipation, &dd_dvn);
-  out.fn = out.compliance * out.dissipation;
-  out.dfn_dphi = dc_dphi * out.dissipation;
-  out.dfn_dvn = out.compliance * dd_dvn;
-  // ft = -mu fn vt / s, s = sqrt(vs^2 + |vt|^2) >= vs > 0: smooth everywhere, zero at vt = 0.
-  const double s = std::sqrt(p.stiction_velocity * p.stiction_velocity + vt.squaredNorm());
-  const Eigen::Vector3d t = vt / s;  // |t| < 1
-  const double mu = p.friction_coefficient;
-  out.ft = -mu * out.fn * t;
-  out.f = out.fn * normal + out.ft;
-  out.dft_dphi = -mu * out.dfn_dphi * t;
-  out.dft_dvn = -mu * out.dfn_dvn * t;
-  out.dft_dvt = (-mu * out.fn / s) * (Eigen::Matrix3d::Identity() - t * t.transpose());
-  return out;
+  return CalcContactForceTpl<double>(p, phi, vn, vt, normal);
 }
 
 double ContactCutoffDistance(const ContactParameters& p, double force_tolerance) {

@@ -14,6 +14,7 @@
 #include <fcl/fcl.h>
 
 #include "idto/core/errors.hpp"
+#include "idto/geometry/analytic_distance-inl.hpp"
 
 namespace idto {
 namespace {
@@ -25,27 +26,13 @@ using Eigen::Vector3d;
 constexpr std::string_view kSignedDistance = "idto::SignedDistance";
 constexpr std::string_view kSignedDistanceFcl = "idto::SignedDistanceFcl";
 
-// Variant indices, in the order of idto::Shape.
-constexpr std::size_t kSphereIndex = 0;
-constexpr std::size_t kCapsuleIndex = 1;
-constexpr std::size_t kCylinderIndex = 2;
-constexpr std::size_t kBoxIndex = 3;
-constexpr std::size_t kHalfSpaceIndex = 4;
-static_assert(std::is_same_v<std::variant_alternative_t<kSphereIndex, Shape>, Sphere>);
-static_assert(std::is_same_v<std::variant_alternative_t<kCapsuleIndex, Shape>, Capsule>);
-static_assert(std::is_same_v<std::variant_alternative_t<kCylinderIndex, Shape>, Cylinder>);
-static_assert(std::is_same_v<std::variant_alternative_t<kBoxIndex, Shape>, Box>);
-static_assert(std::is_same_v<std::variant_alternative_t<kHalfSpaceIndex, Shape>, HalfSpace>);
+// Variant indices, in the order of idto::Shape (analytic_distance-inl.hpp).
+using internal::kBoxIndex;
+using internal::kCapsuleIndex;
+using internal::kCylinderIndex;
+using internal::kHalfSpaceIndex;
+using internal::kSphereIndex;
 
-// Below this squared length a direction is treated as undefined (its square root would lose
-// all relative accuracy in the subnormal range).
-constexpr double kMinSquaredNorm = 1e-290;
-// Relative size of a height difference below which a deepest segment/edge/face of a shape
-// against a half-space is treated as parallel to the plane (see the header).
-constexpr double kTieTolerance = 1e-12;
-// sin² of the angle below which two capsule axes are treated as (nearly) parallel: below it the
-// closed form for crossing lines loses accuracy as eps/sin²θ and the overlap rule is used.
-constexpr double kParallelSin2 = 1e-15;
 // Shapes are handed to FCL scaled to unit size; these tolerances are therefore relative.
 // GJK distance converges to ~1e-11 with 1e-12. FCL's libccd EPA (used in penetration) aborts
 // the process on a failed assertion for capsules at tolerances of 1e-8 and below (measured on
@@ -131,252 +118,6 @@ void CheckArguments(std::string_view where, const Shape& A, const Isometry3d& X_
   CheckShape(where, "B", B);
   CheckPose(where, "X_WA", X_WA);
   CheckPose(where, "X_WB", X_WB);
-}
-
-// ---------------------------------------------------------------------------------------------
-// Analytic pairs. Each computes (A, B) with A of lower variant index, normal from A to B.
-
-// Two spheres (also the core of every pair of "swept spheres": sphere, capsule).
-SignedDistanceResult SpherePair(const Vector3d& c_A, double r_A, const Vector3d& c_B, double r_B,
-                                const Vector3d& fallback_normal_W) {
-  SignedDistanceResult result;
-  const Vector3d d = c_B - c_A;
-  const double d2 = d.squaredNorm();
-  if (d2 > kMinSquaredNorm) {
-    const double len = std::sqrt(d2);
-    result.normal_W = d / len;
-    result.distance = len - r_A - r_B;
-  } else {
-    // Coincident centres: any normal gives the same (most negative) distance.
-    result.normal_W = fallback_normal_W;
-    result.distance = d.dot(fallback_normal_W) - r_A - r_B;
-  }
-  result.p_WA = c_A + r_A * result.normal_W;
-  result.p_WB = c_B - r_B * result.normal_W;
-  return result;
-}
-
-// A point p_WA (on A's surface, deepest towards the plane) against a half-space B: the normal
-// is minus the plane's outward normal, the witness on B is the projection of p_WA.
-SignedDistanceResult PointHalfSpace(const Vector3d& p_WA, const Isometry3d& X_WB) {
-  const Vector3d n_B = X_WB.linear().col(2);
-  const double height = n_B.dot(p_WA - X_WB.translation());
-  SignedDistanceResult result;
-  result.distance = height;
-  result.normal_W = -n_B;
-  result.p_WA = p_WA;
-  result.p_WB = p_WA - height * n_B;
-  return result;
-}
-
-SignedDistanceResult SphereHalfSpace(const Sphere& sphere, const Isometry3d& X_WA,
-                                     const Isometry3d& X_WB) {
-  const Vector3d n_B = X_WB.linear().col(2);
-  return PointHalfSpace(X_WA.translation() - sphere.radius * n_B, X_WB);
-}
-
-// Closest point to p on the segment of a capsule (z axis of X_WC, half length h).
-Vector3d ClosestOnSegment(const Vector3d& p, const Isometry3d& X_WC, double h) {
-  const Vector3d u = X_WC.linear().col(2);
-  const double t = std::clamp(u.dot(p - X_WC.translation()), -h, h);
-  return X_WC.translation() + t * u;
-}
-
-SignedDistanceResult SphereCapsule(const Sphere& sphere, const Isometry3d& X_WA,
-                                   const Capsule& capsule, const Isometry3d& X_WB) {
-  const Vector3d s = ClosestOnSegment(X_WA.translation(), X_WB, 0.5 * capsule.length);
-  return SpherePair(X_WA.translation(), sphere.radius, s, capsule.radius, -X_WB.linear().col(0));
-}
-
-// Sphere against a convex solid B described by the point q_B of B's surface nearest to the
-// sphere centre and B's outward normal n_B there (both in B's frame), and the signed distance
-// phi_c of the centre to B.
-SignedDistanceResult SphereAgainstSurface(const Vector3d& c_W, double radius,
-                                          const Isometry3d& X_WB, const Vector3d& q_B,
-                                          const Vector3d& n_B, double phi_c) {
-  SignedDistanceResult result;
-  const Vector3d n_out_W = X_WB.linear() * n_B;
-  result.normal_W = -n_out_W;
-  result.distance = phi_c - radius;
-  result.p_WA = c_W - radius * n_out_W;
-  result.p_WB = X_WB * q_B;
-  return result;
-}
-
-SignedDistanceResult SphereCylinder(const Sphere& sphere, const Isometry3d& X_WA,
-                                    const Cylinder& cylinder, const Isometry3d& X_WB) {
-  const Vector3d c_W = X_WA.translation();
-  const Vector3d c = X_WB.inverse(Eigen::Isometry) * c_W;
-  const double R = cylinder.radius;
-  const double h = 0.5 * cylinder.length;
-  const double rho2 = c.x() * c.x() + c.y() * c.y();
-  const double rho = std::sqrt(rho2);
-  if (rho > R || std::abs(c.z()) > h) {
-    // Outside: the nearest point clamps the radial and axial coordinates.
-    Vector3d q = c;
-    if (rho > R) q.head<2>() *= R / rho;
-    q.z() = std::clamp(c.z(), -h, h);
-    const Vector3d v = c - q;
-    const double len2 = v.squaredNorm();
-    // (R/ρ may round to 1 just outside the side: then treat the centre as on the surface.)
-    if (len2 > kMinSquaredNorm) {
-      const double len = std::sqrt(len2);
-      return SphereAgainstSurface(c_W, sphere.radius, X_WB, q, v / len, len);
-    }
-  }
-  // Inside (or on the surface): the nearest of side, +z cap, −z cap, in that order on ties.
-  const double depth_side = R - rho;
-  const double depth_top = h - c.z();
-  const double depth_bottom = h + c.z();
-  if (depth_side <= depth_top && depth_side <= depth_bottom) {
-    Vector3d n = Vector3d::UnitX();
-    if (rho2 > kMinSquaredNorm) n = Vector3d(c.x() / rho, c.y() / rho, 0.0);
-    const Vector3d q(R * n.x(), R * n.y(), c.z());
-    return SphereAgainstSurface(c_W, sphere.radius, X_WB, q, n, -depth_side);
-  }
-  if (depth_top <= depth_bottom) {
-    return SphereAgainstSurface(c_W, sphere.radius, X_WB, Vector3d(c.x(), c.y(), h),
-                                Vector3d::UnitZ(), -depth_top);
-  }
-  return SphereAgainstSurface(c_W, sphere.radius, X_WB, Vector3d(c.x(), c.y(), -h),
-                              -Vector3d::UnitZ(), -depth_bottom);
-}
-
-SignedDistanceResult SphereBox(const Sphere& sphere, const Isometry3d& X_WA, const Box& box,
-                               const Isometry3d& X_WB) {
-  const Vector3d c_W = X_WA.translation();
-  const Vector3d c = X_WB.inverse(Eigen::Isometry) * c_W;
-  const Vector3d e = 0.5 * box.size;
-  if ((c.cwiseAbs().array() > e.array()).any()) {
-    const Vector3d q = c.cwiseMax(-e).cwiseMin(e);
-    const Vector3d v = c - q;
-    const double len2 = v.squaredNorm();
-    if (len2 > kMinSquaredNorm) {
-      const double len = std::sqrt(len2);
-      return SphereAgainstSurface(c_W, sphere.radius, X_WB, q, v / len, len);
-    }
-  }
-  // Inside (or on the surface): nearest face; ties to the lower axis, then to the + face.
-  int axis = 0;
-  double depth = e.x() - std::abs(c.x());
-  for (int i = 1; i < 3; ++i) {
-    const double depth_i = e(i) - std::abs(c(i));
-    if (depth_i < depth) {
-      depth = depth_i;
-      axis = i;
-    }
-  }
-  const double sign = c(axis) >= 0.0 ? 1.0 : -1.0;
-  Vector3d q = c;
-  q(axis) = sign * e(axis);
-  return SphereAgainstSurface(c_W, sphere.radius, X_WB, q, sign * Vector3d::Unit(axis), -depth);
-}
-
-SignedDistanceResult CapsuleHalfSpace(const Capsule& capsule, const Isometry3d& X_WA,
-                                      const Isometry3d& X_WB) {
-  const Vector3d n_B = X_WB.linear().col(2);
-  const Vector3d u = X_WA.linear().col(2);
-  const double h = 0.5 * capsule.length;
-  // Height of the +h end minus the centre's; the deeper end is the one going down.
-  const double dh = h * u.dot(n_B);
-  const double tie = kTieTolerance * (capsule.length + capsule.radius);
-  Vector3d p = X_WA.translation();
-  if (2.0 * std::abs(dh) > tie) p -= (dh > 0.0 ? h : -h) * u;
-  return PointHalfSpace(p - capsule.radius * n_B, X_WB);
-}
-
-SignedDistanceResult CylinderHalfSpace(const Cylinder& cylinder, const Isometry3d& X_WA,
-                                       const Isometry3d& X_WB) {
-  const Vector3d n_B = X_WB.linear().col(2);
-  const Vector3d u = X_WA.linear().col(2);
-  const double h = 0.5 * cylinder.length;
-  const double R = cylinder.radius;
-  const double tie = kTieTolerance * std::max(cylinder.length, 2.0 * R);
-  Vector3d p = X_WA.translation();
-  // Axial part: the lower cap (or the mid-plane when the axis lies in the plane's direction).
-  const double un = u.dot(n_B);
-  if (2.0 * h * std::abs(un) > tie) p -= (un > 0.0 ? h : -h) * u;
-  // Radial part: the lowest rim point (or the cap's centre when the cap is parallel).
-  const Vector3d down_perp = -(n_B - un * u);
-  const double s2 = down_perp.squaredNorm();
-  if (s2 > kMinSquaredNorm && 2.0 * R * std::sqrt(s2) > tie) p += (R / std::sqrt(s2)) * down_perp;
-  return PointHalfSpace(p, X_WB);
-}
-
-SignedDistanceResult BoxHalfSpace(const Box& box, const Isometry3d& X_WA, const Isometry3d& X_WB) {
-  const Vector3d n_B = X_WB.linear().col(2);
-  const Vector3d s = X_WA.linear().transpose() * n_B;  // plane normal in the box frame
-  const Vector3d e = 0.5 * box.size;
-  const double tie = kTieTolerance * box.size.maxCoeff();
-  // The deepest vertex has coordinates −sign(s_i) e_i; a zero sign (within the tie) keeps the
-  // centroid of the deepest edge or face.
-  Vector3d offset = Vector3d::Zero();
-  for (int i = 0; i < 3; ++i) {
-    if (2.0 * e(i) * std::abs(s(i)) > tie) offset(i) = s(i) > 0.0 ? -e(i) : e(i);
-  }
-  return PointHalfSpace(X_WA * offset, X_WB);
-}
-
-// Closest points between segments P(s) = p_A + s u_A, |s| <= h_A and Q(t) = p_B + t u_B,
-// |t| <= h_B (u unit). Returns (s, t).
-std::pair<double, double> ClosestSegmentParameters(const Vector3d& p_A, const Vector3d& u_A,
-                                                   double h_A, const Vector3d& p_B,
-                                                   const Vector3d& u_B, double h_B) {
-  const Vector3d r = p_A - p_B;
-  const double b = u_A.dot(u_B);
-  const double c = u_A.dot(r);
-  const double f = u_B.dot(r);
-  // 1 − b² computed from the cross product keeps its relative accuracy at small angles.
-  const double denom = u_A.cross(u_B).squaredNorm();
-  double s = 0.0;
-  if (denom > kParallelSin2) {
-    // Minimizer of |r + s u_A − t u_B|² over the lines, then Ericson's clamping sequence.
-    s = std::clamp((b * f - c) / denom, -h_A, h_A);
-  } else {
-    // (Nearly) parallel: B's extent projected on A's axis is [lo, hi]. Over its overlap with
-    // [−h_A, h_A] the gap P(s) − Q(b s + f) = w0 + s v is affine, v = u_A − b u_B being tiny.
-    const double s0 = -c - b * h_B;
-    const double s1 = -c + b * h_B;
-    const double lo = std::max(std::min(s0, s1), -h_A);
-    const double hi = std::min(std::max(s0, s1), h_A);
-    if (lo <= hi) {
-      const Vector3d v = u_A - b * u_B;
-      const Vector3d w0 = r - f * u_B;
-      const double v2 = v.squaredNorm();
-      // The gap changes by at most |v|(hi − lo) over the overlap: when that is round-off, the
-      // axes are parallel and the middle of the overlap is the (deterministic) witness.
-      const double tie = kTieTolerance * (hi - lo + w0.norm());
-      if (v2 * (hi - lo) * (hi - lo) <= tie * tie) {
-        s = 0.5 * (lo + hi);
-      } else {
-        s = std::clamp(-w0.dot(v) / v2, lo, hi);
-      }
-    } else {
-      s = hi < -h_A ? -h_A : h_A;  // no overlap: A's end nearer to B
-    }
-  }
-  double t = b * s + f;
-  if (t < -h_B || t > h_B) {
-    t = std::clamp(t, -h_B, h_B);
-    s = std::clamp(b * t - c, -h_A, h_A);
-  }
-  return {s, t};
-}
-
-SignedDistanceResult CapsuleCapsule(const Capsule& capsule_A, const Isometry3d& X_WA,
-                                    const Capsule& capsule_B, const Isometry3d& X_WB) {
-  const Vector3d u_A = X_WA.linear().col(2);
-  const Vector3d u_B = X_WB.linear().col(2);
-  const auto [s, t] = ClosestSegmentParameters(X_WA.translation(), u_A, 0.5 * capsule_A.length,
-                                               X_WB.translation(), u_B, 0.5 * capsule_B.length);
-  const Vector3d s_A = X_WA.translation() + s * u_A;
-  const Vector3d s_B = X_WB.translation() + t * u_B;
-  // Only used when the segments intersect.
-  Vector3d fallback = X_WA.linear().col(0);
-  const Vector3d w = u_A.cross(u_B);
-  const double w2 = w.squaredNorm();
-  if (w2 > kParallelSin2) fallback = w / std::sqrt(w2);
-  return SpherePair(s_A, capsule_A.radius, s_B, capsule_B.radius, fallback);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -478,7 +219,8 @@ SignedDistanceResult FclSignedDistance(const Shape& A, const Isometry3d& X_WA, c
       Vector3d n = tf_B.translation();
       if (collision_result.numContacts() > 0) n = collision_result.getContact(0).normal;
       const double n2 = n.squaredNorm();
-      out.normal_W = n2 > kMinSquaredNorm ? Vector3d(n / std::sqrt(n2)) : Vector3d::UnitZ();
+      out.normal_W =
+          n2 > internal::kMinSquaredNorm ? Vector3d(n / std::sqrt(n2)) : Vector3d::UnitZ();
       out.distance = (p_B - p_A).dot(out.normal_W);
     }
     out.distance *= scale;
@@ -491,49 +233,27 @@ SignedDistanceResult FclSignedDistance(const Shape& A, const Isometry3d& X_WA, c
   }
 }
 
-bool IsAnalyticCanonical(std::size_t a, std::size_t b) {
-  if (a == kSphereIndex) return true;  // sphere with anything
-  if (b == kHalfSpaceIndex) return a != kHalfSpaceIndex;
-  return a == kCapsuleIndex && b == kCapsuleIndex;
+RigidTransformTpl<double> ToRigidTransform(const Isometry3d& X) {
+  return {X.linear(), X.translation()};
 }
 
 // A has the lower (or equal) variant index.
 SignedDistanceResult Canonical(const Shape& A, const Isometry3d& X_WA, const Shape& B,
                                const Isometry3d& X_WB) {
-  const std::size_t a = A.index();
-  const std::size_t b = B.index();
-  if (a == kSphereIndex) {
-    const auto& sphere = std::get<Sphere>(A);
-    switch (b) {
-      case kSphereIndex:
-        return SpherePair(X_WA.translation(), sphere.radius, X_WB.translation(),
-                          std::get<Sphere>(B).radius, Vector3d::UnitZ());
-      case kCapsuleIndex:
-        return SphereCapsule(sphere, X_WA, std::get<Capsule>(B), X_WB);
-      case kCylinderIndex:
-        return SphereCylinder(sphere, X_WA, std::get<Cylinder>(B), X_WB);
-      case kBoxIndex:
-        return SphereBox(sphere, X_WA, std::get<Box>(B), X_WB);
-      default:
-        return SphereHalfSpace(sphere, X_WA, X_WB);
-    }
+  if (A.index() == kHalfSpaceIndex && B.index() == kHalfSpaceIndex) {
+    ThrowInvalidArgument(kSignedDistance, "(A, B)", "(half_space, half_space)",
+                         "at most one half_space: the distance between two half-spaces is "
+                         "not defined");
   }
-  if (b == kHalfSpaceIndex) {
-    switch (a) {
-      case kCapsuleIndex:
-        return CapsuleHalfSpace(std::get<Capsule>(A), X_WA, X_WB);
-      case kCylinderIndex:
-        return CylinderHalfSpace(std::get<Cylinder>(A), X_WA, X_WB);
-      case kBoxIndex:
-        return BoxHalfSpace(std::get<Box>(A), X_WA, X_WB);
-      default:
-        ThrowInvalidArgument(kSignedDistance, "(A, B)", "(half_space, half_space)",
-                             "at most one half_space: the distance between two half-spaces is "
-                             "not defined");
-    }
-  }
-  if (a == kCapsuleIndex && b == kCapsuleIndex) {
-    return CapsuleCapsule(std::get<Capsule>(A), X_WA, std::get<Capsule>(B), X_WB);
+  SignedDistanceResultTpl<double> r;
+  if (internal::CanonicalAnalytic<double>(A, ToRigidTransform(X_WA), B, ToRigidTransform(X_WB),
+                                          &r)) {
+    SignedDistanceResult result;
+    result.distance = r.distance;
+    result.normal_W = r.normal_W;
+    result.p_WA = r.p_WA;
+    result.p_WB = r.p_WB;
+    return result;
   }
   return FclSignedDistance(A, X_WA, B, X_WB);
 }
@@ -547,11 +267,7 @@ SignedDistanceResult SignedDistance(const Shape& A, const Isometry3d& X_WA, cons
   return Flip(Canonical(B, X_WB, A, X_WA));
 }
 
-bool SignedDistanceIsExact(const Shape& A, const Shape& B) {
-  const std::size_t a = std::min(A.index(), B.index());
-  const std::size_t b = std::max(A.index(), B.index());
-  return IsAnalyticCanonical(a, b);
-}
+bool SignedDistanceIsExact(const Shape& A, const Shape& B) { return IsAnalyticPair(A, B); }
 
 SignedDistanceResult SignedDistanceFcl(const Shape& A, const Isometry3d& X_WA, const Shape& B,
                                        const Isometry3d& X_WB) {

@@ -64,21 +64,27 @@ class FiniteDifferenceEvaluator final : public TauDerivativeEvaluator {
     const int N = t->num_steps();
     ws->q = s.q[k];
     for (int i = 0; i < t->nq(); ++i) {
-      const double h = relative_step_ * std::max(1.0, std::abs(s.q[k](i)));
+      const double qi = s.q[k](i);
+      const double h = relative_step_ * std::max(1.0, std::abs(qi));
+      // Divide by the step actually applied: q_i +- h rounded to a double.
+      const double q_plus = qi + h;
       if (central_) {
-        ws->q(i) = s.q[k](i) + h;
+        const double q_minus = qi - h;
+        const double h_applied = q_plus - q_minus;
+        ws->q(i) = q_plus;
         Perturbed(s, k, i, *t, ws, &ws->tau_a, &ws->tau_b);
-        ws->q(i) = s.q[k](i) - h;
+        ws->q(i) = q_minus;
         Perturbed(s, k, i, *t, ws, &ws->tau_c, &ws->tau_d);
-        d->dtau_dqp[k - 1].col(i) = (ws->tau_a - ws->tau_c) / (2.0 * h);
-        if (k < N) d->dtau_dq[k].col(i) = (ws->tau_b - ws->tau_d) / (2.0 * h);
+        d->dtau_dqp[k - 1].col(i) = (ws->tau_a - ws->tau_c) / h_applied;
+        if (k < N) d->dtau_dq[k].col(i) = (ws->tau_b - ws->tau_d) / h_applied;
       } else {
-        ws->q(i) = s.q[k](i) + h;
+        const double h_applied = q_plus - qi;
+        ws->q(i) = q_plus;
         Perturbed(s, k, i, *t, ws, &ws->tau_a, &ws->tau_b);
-        d->dtau_dqp[k - 1].col(i) = (ws->tau_a - s.tau[k - 1]) / h;
-        if (k < N) d->dtau_dq[k].col(i) = (ws->tau_b - s.tau[k]) / h;
+        d->dtau_dqp[k - 1].col(i) = (ws->tau_a - s.tau[k - 1]) / h_applied;
+        if (k < N) d->dtau_dq[k].col(i) = (ws->tau_b - s.tau[k]) / h_applied;
       }
-      ws->q(i) = s.q[k](i);
+      ws->q(i) = qi;
     }
   }
 

@@ -34,7 +34,7 @@ Transcription::Transcription(const Model& model, const ProblemDefinition& proble
   }
   SetPenaltyWeight(0.0);
   SetNumThreads(1);
-  SetDerivativeMethod(DerivativeMethod::kForwardDifferences, 0.0);
+  SetDerivativeMethod(DerivativeMethod::kAnalytic, 0.0);
 }
 
 Transcription::~Transcription() = default;
@@ -102,6 +102,8 @@ std::unique_ptr<TauDerivativeEvaluator> MakeTauDerivativeEvaluator(DerivativeMet
     case DerivativeMethod::kForwardDifferences:
     case DerivativeMethod::kCentralDifferences:
       return MakeFiniteDifferenceEvaluator(method, relative_step);
+    case DerivativeMethod::kAnalytic:
+      return MakeAnalyticEvaluator();
   }
   ThrowInvalidArgument("MakeTauDerivativeEvaluator", "method",
                        std::to_string(static_cast<int>(method)), "a DerivativeMethod");

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 
+#include "idto/contact/contact_derivatives.hpp"
 #include "idto/contact/contact_engine.hpp"
 #include "idto/multibody/data.hpp"
 #include "idto/multibody/model.hpp"
@@ -25,7 +26,10 @@ struct TranscriptionWorkspace {
         tau_d(Eigen::VectorXd::Zero(model.nv())),
         q(Eigen::VectorXd::Zero(model.nq())),
         scratch_v(Eigen::VectorXd::Zero(model.nv())),
-        scratch_vq(Eigen::MatrixXd::Zero(model.nv(), model.nq())) {
+        scratch_vq(Eigen::MatrixXd::Zero(model.nv(), model.nq())),
+        Mdt(Eigen::MatrixXd::Zero(model.nv(), model.nv())),
+        B(Eigen::MatrixXd::Zero(model.nv(), model.nv())) {
+    if (engine != nullptr) contact_derivatives = MakeContactDerivativeWorkspace(model);
     if (engine != nullptr) contact = engine->MakeData(model);
   }
   Data data;
@@ -38,6 +42,10 @@ struct TranscriptionWorkspace {
   // Assembly scratch (nested Eigen products would otherwise allocate temporaries): nv, nv x nq.
   Eigen::VectorXd scratch_v;
   Eigen::MatrixXd scratch_vq;
+  // Analytic derivatives: M / dt and d ID / d v + M / dt (nv x nv), and the contact part's
+  // scratch.
+  Eigen::MatrixXd Mdt, B;
+  ContactDerivativeWorkspace contact_derivatives;
 };
 
 }  // namespace idto

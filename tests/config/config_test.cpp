@@ -317,6 +317,21 @@ TEST(ConfigTest, PiExpressions) {
   EXPECT_EIGEN_NEAR(config.problem.v_init, Eigen::Vector2d(M_PI, M_PI / 4), kTol);
 }
 
+TEST(ConfigTest, DerivativeMethods) {
+  const auto method = [](const std::string& name) {
+    return LoadText(With("max_iterations: 10", "max_iterations: 10\n  derivative_method: " + name))
+        .solver.derivative_method;
+  };
+  EXPECT_EQ(method("analytic"), DerivativeMethod::kAnalytic);
+  EXPECT_EQ(method("forward"), DerivativeMethod::kForwardDifferences);
+  EXPECT_EQ(method("central"), DerivativeMethod::kCentralDifferences);
+  // An unknown name: the error names the key, the value and the accepted names.
+  EXPECT_THAT(
+      Loading(With("max_iterations: 10", "derivative_method: exact")),
+      ThrowsMessage<FileError>(AllOf(HasSubstr("solver.derivative_method"), HasSubstr("'exact'"),
+                                     HasSubstr("one of forward, central, analytic"))));
+}
+
 TEST(ConfigTest, InitialGuessTypes) {
   ExampleConfig config = LoadText(
       With("q_init: [0, 0]", "q_init: [0, 0]\n  nominal: {q_nom: {shoulder: 1, elbow: 2}}"));

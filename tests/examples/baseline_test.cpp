@@ -1,9 +1,9 @@
 // Every example, both constraint methods, 15 iterations on 1 thread: the final cost and q_N equal
-// the recorded results to 1e-9 relative. The penalty rows were recorded before the solver was
-// split into a transcription and a minimizer (issue "One place per idea"; the split reproduced
-// every row bit for bit); the Lagrange rows were re-recorded when the banded KKT solve replaced
-// the dense multipliers (see the data file's header). A change of these numbers is a change of
-// the method, not a refactoring: record new values only on purpose, with
+// the recorded results to 1e-9 relative. History (the data file's header has the numbers): the
+// split into a transcription and a minimizer reproduced the pre-redesign rows bit for bit; the
+// Lagrange rows were re-recorded when the banded KKT solve replaced the dense multipliers; all
+// rows were re-recorded when the analytic derivatives became the default. A change of these
+// numbers is a change of the method, not a refactoring: record new values only on purpose, with
 //   IDTO_RECORD_BASELINE=tests/data/baseline/solver_baseline.txt
 //   ./build/tests/idto_examples_test --gtest_filter='Baseline.*'
 

@@ -47,6 +47,9 @@ struct RandomTreeOptions {
   bool include_floating{true};  ///< a floating joint deeper in the tree (not at the root)
   bool with_damping{true};
   Eigen::Vector3d gravity{0.0, 0.0, -9.81};
+  /// Attach a random shape (sphere, capsule, cylinder or box, cycling) at a random pose to every
+  /// body, and a tilted half-space and a sphere to the world (contact tests).
+  bool with_geometry{false};
 };
 
 /// A random tree: the root on the requested base, then bodies attached to random earlier
@@ -99,6 +102,33 @@ inline Model RandomTreeModel(std::uint32_t seed, const RandomTreeOptions& option
     }
     const BodyIndex parent = static_cast<BodyIndex>(rng.engine()() % (i - 1)) + 1;
     builder.AddBody("body" + std::to_string(i), RandomInertia(&rng), parent, j);
+  }
+  if (options.with_geometry) {
+    for (int i = 1; i <= options.num_bodies; ++i) {
+      const double r = rng.Uniform(0.05, 0.2), l = rng.Uniform(0.05, 0.3);
+      Shape shape;
+      switch (i % 4) {
+        case 0:
+          shape = Sphere{r};
+          break;
+        case 1:
+          shape = Capsule{r, l};
+          break;
+        case 2:
+          shape = Sphere{r};  // spheres carry most contacts (cylinders and boxes vs half-space)
+          break;
+        default:
+          shape = Capsule{0.5 * r, l};
+      }
+      builder.AddGeometry("geometry" + std::to_string(i), static_cast<BodyIndex>(i),
+                          RandomPose(&rng, 0.2), shape);
+    }
+    Eigen::Isometry3d X_WH = Eigen::Isometry3d::Identity();
+    X_WH.linear() =
+        Eigen::AngleAxisd(0.3, Eigen::Vector3d(1.0, 0.5, 0.0).normalized()).toRotationMatrix();
+    X_WH.translation() = Eigen::Vector3d(0.0, 0.0, -0.3);
+    builder.AddGeometry("ground", kWorldBody, X_WH, HalfSpace{});
+    builder.AddGeometry("post", kWorldBody, RandomPose(&rng, 0.3), Sphere{0.25});
   }
   return builder.Build();
 }

@@ -37,21 +37,26 @@ struct ContactParameters {
   void Validate(const std::string& where) const;
 };
 
-/// Normal force, friction and their partial derivatives for one contact.
-struct ContactForce {
-  double compliance{0.0};                       ///< c(phi), N
-  double dissipation{0.0};                      ///< d(v_n), dimensionless
-  double fn{0.0};                               ///< normal force magnitude, N (>= 0)
-  Eigen::Vector3d ft{Eigen::Vector3d::Zero()};  ///< friction force on B, N (world)
-  Eigen::Vector3d f{Eigen::Vector3d::Zero()};   ///< total force on B: fn n + ft, N (world)
+/// Normal force, friction and their partial derivatives for one contact, on Scalar (double,
+/// or an automatic-differentiation scalar in the tests); ContactForce is the double one.
+template <typename Scalar>
+struct ContactForceTpl {
+  using Vec3 = Eigen::Matrix<Scalar, 3, 1>;
+  Scalar compliance{0.0};   ///< c(phi), N
+  Scalar dissipation{0.0};  ///< d(v_n), dimensionless
+  Scalar fn{0.0};           ///< normal force magnitude, N (>= 0)
+  Vec3 ft{Vec3::Zero()};    ///< friction force on B, N (world)
+  Vec3 f{Vec3::Zero()};     ///< total force on B: fn n + ft, N (world)
 
-  double dfn_dphi{0.0};  ///< N/m
-  double dfn_dvn{0.0};   ///< N s/m
+  Scalar dfn_dphi{0.0};  ///< N/m
+  Scalar dfn_dvn{0.0};   ///< N s/m
   /// Partials of ft (3) with respect to phi, v_n and v_t (3 x 3), world frame.
-  Eigen::Vector3d dft_dphi{Eigen::Vector3d::Zero()};
-  Eigen::Vector3d dft_dvn{Eigen::Vector3d::Zero()};
-  Eigen::Matrix3d dft_dvt{Eigen::Matrix3d::Zero()};
+  Vec3 dft_dphi{Vec3::Zero()};
+  Vec3 dft_dvn{Vec3::Zero()};
+  Eigen::Matrix<Scalar, 3, 3> dft_dvt{Eigen::Matrix<Scalar, 3, 3>::Zero()};
 };
+
+using ContactForce = ContactForceTpl<double>;
 
 /// softplus(x) = log(1 + exp(x)) without overflow or loss of precision for any x.
 double Softplus(double x);
@@ -65,8 +70,21 @@ void DissipationAndDerivative(const ContactParameters& p, double vn, double* d, 
 
 /// The contact force of the law above. `normal` (3) is the unit normal n from A to B, `vn` the
 /// normal component of the relative velocity and `vt` (3) its tangential part (orthogonal to n).
+/// Branch points of d(v_n) (x = 0 and x = 2) take the derivative of the branch on the right
+/// (x >= 0 uses the quadratic, x >= 2 the zero branch): a one-sided derivative.
 ContactForce CalcContactForce(const ContactParameters& p, double phi, double vn,
                               const Eigen::Vector3d& vt, const Eigen::Vector3d& normal);
+
+/// CalcContactForce on any Scalar (defined in contact_law-inl.hpp; double compiled once).
+template <typename Scalar>
+ContactForceTpl<Scalar> CalcContactForceTpl(const ContactParameters& p, const Scalar& phi,
+                                            const Scalar& vn, const Eigen::Matrix<Scalar, 3, 1>& vt,
+                                            const Eigen::Matrix<Scalar, 3, 1>& normal);
+
+extern template ContactForceTpl<double> CalcContactForceTpl<double>(const ContactParameters&,
+                                                                    const double&, const double&,
+                                                                    const Eigen::Vector3d&,
+                                                                    const Eigen::Vector3d&);
 
 /// The signed distance beyond which c(phi) < force_tolerance: pairs farther apart than this
 /// exert less than force_tolerance * d(v_n) (N) and may be skipped. Finite for any positive

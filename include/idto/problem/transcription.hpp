@@ -8,8 +8,8 @@
 /// parallel; every reduction runs in a fixed order, so results are bitwise identical for any
 /// thread count. The minimizer (solver/) sees the problem only through this class.
 ///
-/// Derivatives go through one seam, TauDerivativeEvaluator: forward and central differences
-/// today; another method plugs in there without touching the minimizer.
+/// Derivatives go through one seam, TauDerivativeEvaluator: analytic (the default), forward or
+/// central differences; another method plugs in there without touching the minimizer.
 
 #include <cstdint>
 #include <memory>
@@ -45,6 +45,10 @@ class TauDerivativeEvaluator {
 /// (central).
 std::unique_ptr<TauDerivativeEvaluator> MakeFiniteDifferenceEvaluator(DerivativeMethod method,
                                                                       double relative_step);
+
+/// Exact derivatives (DerivativeMethod::kAnalytic): analytic RNEA derivatives and contact
+/// derivatives (contact_derivatives.hpp) at each step, then the chain rule through v and a.
+std::unique_ptr<TauDerivativeEvaluator> MakeAnalyticEvaluator();
 
 /// The evaluator of a DerivativeMethod: the one place a new method is added.
 std::unique_ptr<TauDerivativeEvaluator> MakeTauDerivativeEvaluator(DerivativeMethod method,
@@ -152,7 +156,7 @@ class Transcription {
   int num_threads_{1};
   std::vector<std::unique_ptr<TranscriptionWorkspace>> workspaces_;
   std::unique_ptr<TauDerivativeEvaluator> evaluator_;
-  DerivativeMethod derivative_method_{DerivativeMethod::kForwardDifferences};
+  DerivativeMethod derivative_method_{DerivativeMethod::kAnalytic};
   double relative_step_{0.0};
   bool custom_evaluator_{false};
   // For each position coordinate: the bodies whose pose or velocity it moves (num_bodies).

@@ -37,7 +37,8 @@ struct SolverOptions {
   /// kPenalty: when > 0, the weight w of w/2 |h|^2, placed on R's unactuated entries (paper
   /// §5.2.1); 0 keeps R's unactuated entries as given (the paper's tables set them in R).
   double penalty_weight{0.0};
-  DerivativeMethod derivative_method{DerivativeMethod::kForwardDifferences};
+  /// d tau / d q: exact (kAnalytic, the default) or by forward / central differences.
+  DerivativeMethod derivative_method{DerivativeMethod::kAnalytic};
   double finite_difference_step{0.0};  ///< relative step; 0: sqrt(eps) (forward) or cbrt(eps)
   ScalingMethod scaling{ScalingMethod::kDoubleSqrt};
 

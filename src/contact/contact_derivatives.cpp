@@ -1,0 +1,312 @@
+#include "idto/contact/contact_derivatives.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+#include <unsupported/Eigen/AutoDiff>
+
+#include "idto/geometry/analytic_distance-inl.hpp"
+#include "idto/geometry/signed_distance.hpp"
+#include "idto/multibody/algorithms/rnea_derivatives-inl.hpp"
+
+namespace idto {
+
+// The dual number of the pair geometry: value and derivatives along the six components of B's
+// world twist (theta, rho).
+using Dual6 = Eigen::AutoDiffScalar<Eigen::Matrix<double, 6, 1>>;
+template bool AnalyticSignedDistance<Dual6>(const Shape&, const RigidTransformTpl<Dual6>&,
+                                            const Shape&, const RigidTransformTpl<Dual6>&,
+                                            SignedDistanceResultTpl<Dual6>*);
+
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Row12 = Eigen::Matrix<double, 1, 12>;
+using Mat3x12 = Eigen::Matrix<double, 3, 12>;
+using Mat6x24 = Eigen::Matrix<double, 6, 24>;
+
+// Central-difference step of FCL pairs (rad, m): FCL's answers carry errors of about 1e-10 m,
+// so a smaller step would amplify them (error ~ 1e-10 / step); truncation is ~ step^2.
+constexpr double kFclStep = 1e-4;
+
+// d(phi, n, p_WA, p_WB) / d(eps_A, eps_B), eps = (theta, rho) a world twist of each body.
+struct PairGeometryJacobian {
+  Row12 phi;
+  Mat3x12 n, p_A, p_B;
+};
+
+RigidTransform GeometryPose(const Model& model, const Data& rnea, const GeometryInstance& g) {
+  const BodyIndex m = model.mobilized_body(g.body);
+  return rnea.X_WB_[m] * model.X_MB(g.body) * RigidTransform(g.X_BG.linear(), g.X_BG.translation());
+}
+
+// The columns of A follow from those of B: under a common rigid motion eps of both bodies phi
+// does not change, n turns (dn = theta x n) and the witnesses move (dp = theta x p + rho).
+void CompleteWithInvariance(const Vector3d& n, const Vector3d& p_A, const Vector3d& p_B,
+                            PairGeometryJacobian* J) {
+  J->phi.head<6>() = -J->phi.tail<6>();
+  J->n.leftCols<6>().setZero();
+  J->n.block<3, 3>(0, 0) = -Skew<double>(n);
+  J->n.leftCols<6>() -= J->n.rightCols<6>();
+  J->p_A.leftCols<6>() << -Skew<double>(p_A), Matrix3d::Identity();
+  J->p_A.leftCols<6>() -= J->p_A.rightCols<6>();
+  J->p_B.leftCols<6>() << -Skew<double>(p_B), Matrix3d::Identity();
+  J->p_B.leftCols<6>() -= J->p_B.rightCols<6>();
+}
+
+// Exact, through the templated pair code on Dual6 (B perturbed by its twist).
+void AnalyticGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const Shape& b,
+                              const RigidTransform& X_WGb, PairGeometryJacobian* J) {
+  const RigidTransformTpl<Dual6> Xa = X_WGa.cast<Dual6>();
+  Vector3<Dual6> theta, rho;
+  for (int i = 0; i < 3; ++i) {
+    theta(i) = Dual6(0.0, Eigen::Matrix<double, 6, 1>::Unit(i));
+    rho(i) = Dual6(0.0, Eigen::Matrix<double, 6, 1>::Unit(i + 3));
+  }
+  RigidTransformTpl<Dual6> Xb = X_WGb.cast<Dual6>();
+  for (int c = 0; c < 3; ++c) Xb.R.col(c) += theta.cross(Vector3<Dual6>(Xb.R.col(c)));
+  Xb.p += theta.cross(Xb.p) + rho;
+  SignedDistanceResultTpl<Dual6> r;
+  AnalyticSignedDistance<Dual6>(a, Xa, b, Xb, &r);
+  J->phi.tail<6>() = r.distance.derivatives().transpose();
+  Vector3d n, p_A, p_B;
+  for (int i = 0; i < 3; ++i) {
+    J->n.block<1, 6>(i, 6) = r.normal_W(i).derivatives().transpose();
+    J->p_A.block<1, 6>(i, 6) = r.p_WA(i).derivatives().transpose();
+    J->p_B.block<1, 6>(i, 6) = r.p_WB(i).derivatives().transpose();
+    n(i) = r.normal_W(i).value();
+    p_A(i) = r.p_WA(i).value();
+    p_B(i) = r.p_WB(i).value();
+  }
+  CompleteWithInvariance(n, p_A, p_B, J);
+}
+
+// FCL pairs: central differences of SignedDistance over B's twist, rotations taken about B's
+// geometry origin (then moved to the world origin).
+void FclGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const Shape& b,
+                         const RigidTransform& X_WGb, PairGeometryJacobian* J) {
+  Eigen::Isometry3d Xa = Eigen::Isometry3d::Identity(), Xb = Eigen::Isometry3d::Identity();
+  Xa.linear() = X_WGa.R;
+  Xa.translation() = X_WGa.p;
+  Eigen::Matrix<double, 10, 6> D;  // rows: phi, n, p_A, p_B; columns: local theta, rho
+  for (int i = 0; i < 6; ++i) {
+    const double h = kFclStep;
+    Eigen::Matrix<double, 10, 1> y[2];
+    for (int side = 0; side < 2; ++side) {
+      const double step = side == 0 ? h : -h;
+      Xb.linear() = X_WGb.R;
+      Xb.translation() = X_WGb.p;
+      if (i < 3) {
+        Xb.linear() = Eigen::AngleAxisd(step, Vector3d::Unit(i)).toRotationMatrix() * X_WGb.R;
+      } else {
+        Xb.translation() += step * Vector3d::Unit(i - 3);
+      }
+      const SignedDistanceResult r = SignedDistance(a, Xa, b, Xb);
+      y[side] << r.distance, r.normal_W, r.p_WA, r.p_WB;
+    }
+    D.col(i) = (y[0] - y[1]) / (2.0 * h);
+  }
+  // A world twist (theta, rho) is the rotation theta about B's origin p plus the translation
+  // rho + theta x p.
+  D.leftCols<3>() -= D.rightCols<3>() * Skew<double>(X_WGb.p);
+  J->phi.tail<6>() = D.row(0);
+  J->n.rightCols<6>() = D.middleRows<3>(1);
+  J->p_A.rightCols<6>() = D.middleRows<3>(4);
+  J->p_B.rightCols<6>() = D.middleRows<3>(7);
+  const SignedDistanceResult r0 = SignedDistance(a, Xa, b, [&] {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = X_WGb.R;
+    X.translation() = X_WGb.p;
+    return X;
+  }());
+  CompleteWithInvariance(r0.normal_W, r0.p_WA, r0.p_WB, J);
+}
+
+// d F / d(eps_A, eps_B, V_A, V_B) (6 x 24) for F = (p_C x f, f), the force on B at the world
+// origin.
+void PairForceJacobian(const ContactResult& r, const PairGeometryJacobian& G,
+                       const SpatialMotion& V_A, const SpatialMotion& V_B, Mat6x24* D) {
+  const Vector3d& n = r.normal_W;
+  const Vector3d& p = r.p_WC;
+  const ContactForce& F = r.force;
+  Eigen::Matrix<double, 3, 24> Dp, Dn, Dvc;
+  Eigen::Matrix<double, 1, 24> Dphi;
+  Dp.setZero();
+  Dn.setZero();
+  Dphi.setZero();
+  Dp.leftCols<12>() = 0.5 * (G.p_A + G.p_B);
+  Dn.leftCols<12>() = G.n;
+  Dphi.leftCols<12>() = G.phi;
+  // v_c = (v_B - v_A) + (w_B - w_A) x p_C: the point moves with the poses.
+  Dvc.leftCols<12>().noalias() = Skew<double>(Vector3d(V_B.w - V_A.w)) * Dp.leftCols<12>();
+  const Matrix3d P = Skew<double>(p);
+  Dvc.block<3, 3>(0, 12) = P;
+  Dvc.block<3, 3>(0, 15) = -Matrix3d::Identity();
+  Dvc.block<3, 3>(0, 18) = -P;
+  Dvc.block<3, 3>(0, 21) = Matrix3d::Identity();
+  const Vector3d v_c = r.vn * n + r.vt;
+  Eigen::Matrix<double, 1, 24> Dvn = v_c.transpose() * Dn;
+  Dvn.noalias() += n.transpose() * Dvc;
+  Eigen::Matrix<double, 3, 24> Dvt = Dvc - n * Dvn - r.vn * Dn;
+  Eigen::Matrix<double, 3, 24> Df = n * (F.dfn_dphi * Dphi + F.dfn_dvn * Dvn) + F.fn * Dn;
+  Df.noalias() += F.dft_dphi * Dphi + F.dft_dvn * Dvn;
+  Df.noalias() += F.dft_dvt * Dvt;
+  D->bottomRows<3>() = Df;
+  D->topRows<3>().noalias() = -Skew<double>(F.f) * Dp;
+  D->topRows<3>().noalias() += P * Df;
+}
+
+// The velocity columns of the joints from the root to moving body m (none for the world).
+void CollectChain(const Model& model, BodyIndex m, std::vector<int>* chain) {
+  chain->clear();
+  for (BodyIndex b = m; b != kWorldBody; b = model.moving_parent(b)) {
+    const int iv = model.velocity_start(b);
+    for (int c = 0; c < model.joint_nv(b); ++c) chain->push_back(iv + c);
+  }
+}
+
+SpatialMotion Column(const Eigen::Matrix<double, 6, Eigen::Dynamic>& M, int k) {
+  return {M.col(k).head<3>(), M.col(k).tail<3>()};
+}
+
+// J (world twists per column of the chain) and dV/dq = s x V + u of a body with velocity V.
+void ChainJacobians(const Data& rnea, const std::vector<int>& chain, const SpatialMotion& V,
+                    Eigen::Matrix<double, 6, Eigen::Dynamic>* J,
+                    Eigen::Matrix<double, 6, Eigen::Dynamic>* dV) {
+  for (int k : chain) {
+    J->col(k) = rnea.S_.col(k);
+    const SpatialMotion d = Cross(Column(rnea.S_, k), V) + Column(rnea.dV_dq_, k);
+    dV->col(k) << d.w, d.v;
+  }
+}
+
+// The pair's contribution through dF (the moment arm and the force change), rows of the
+// joints that carry B but not A (minus) or A but not B (plus).
+void AddPairTerms(const Mat6x24& D, ContactDerivativeWorkspace* ws, const Data& rnea,
+                  Eigen::MatrixXd* dtau_dx, Eigen::MatrixXd* dtau_dv) {
+  for (int k : ws->chain_union) {
+    Eigen::Matrix<double, 6, 1> fx = Eigen::Matrix<double, 6, 1>::Zero(), fv = fx;
+    if (ws->in_A[k]) {
+      fx.noalias() += D.block<6, 6>(0, 0) * ws->J_A.col(k) + D.block<6, 6>(0, 12) * ws->dV_A.col(k);
+      fv.noalias() += D.block<6, 6>(0, 12) * ws->J_A.col(k);
+    }
+    if (ws->in_B[k]) {
+      fx.noalias() += D.block<6, 6>(0, 6) * ws->J_B.col(k) + D.block<6, 6>(0, 18) * ws->dV_B.col(k);
+      fv.noalias() += D.block<6, 6>(0, 18) * ws->J_B.col(k);
+    }
+    ws->dF_dx.col(k) = fx;
+    ws->dF_dv.col(k) = fv;
+  }
+  for (int j : ws->chain_union) {
+    if (ws->in_A[j] == ws->in_B[j]) continue;  // common ancestors: +F and -F cancel
+    const double sign = ws->in_B[j] ? -1.0 : 1.0;
+    const auto s_j = rnea.S_.col(j);
+    for (int k : ws->chain_union) {
+      (*dtau_dx)(j, k) += sign * s_j.dot(ws->dF_dx.col(k));
+      (*dtau_dv)(j, k) += sign * s_j.dot(ws->dF_dv.col(k));
+    }
+  }
+}
+
+// The derivative of J^T itself: d S_j / d x_k = s_k x S_j for the columns k of strict ancestor
+// joints and the mixed-frame translations of j's own joint, against the subtree force.
+void AddMotionSubspaceTerms(const Model& model, const Data& rnea, ContactDerivativeWorkspace* ws,
+                            Eigen::MatrixXd* dtau_dx) {
+  const std::vector<BodyIndex>& moving = model.moving_bodies();
+  for (auto it = moving.rbegin(); it != moving.rend(); ++it) {
+    const BodyIndex p = model.moving_parent(*it);
+    if (p != kWorldBody) ws->F_net.col(p) += ws->F_net.col(*it);
+  }
+  for (BodyIndex b : moving) {
+    const auto Fc = ws->F_net.col(b);
+    if (Fc.isZero(0.0)) continue;
+    const SpatialForce F(Fc.head<3>(), Fc.tail<3>());
+    const int iv = model.velocity_start(b);
+    const JointType type = model.joint_type(b);
+    for (int r = 0; r < model.joint_nv(b); ++r) {
+      const SpatialMotion S_j = Column(rnea.S_, iv + r);
+      for (int c = 0; c < model.joint_nv(b); ++c) {
+        if (!internal::IsMixedFrameTranslation(type, c)) continue;
+        (*dtau_dx)(iv + r, iv + c) -= Dot(Cross(Column(rnea.S_, iv + c), S_j), F);
+      }
+      for (BodyIndex a = model.moving_parent(b); a != kWorldBody; a = model.moving_parent(a)) {
+        const int av = model.velocity_start(a);
+        for (int c = 0; c < model.joint_nv(a); ++c) {
+          (*dtau_dx)(iv + r, av + c) -= Dot(Cross(Column(rnea.S_, av + c), S_j), F);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
+
+ContactDerivativeWorkspace MakeContactDerivativeWorkspace(const Model& model) {
+  const int nv = model.nv();
+  ContactDerivativeWorkspace ws;
+  for (auto* M : {&ws.J_A, &ws.J_B, &ws.dV_A, &ws.dV_B, &ws.dF_dx, &ws.dF_dv}) {
+    M->setZero(6, nv);
+  }
+  ws.F_net.setZero(6, model.num_bodies());
+  ws.chain_A.reserve(nv);
+  ws.chain_B.reserve(nv);
+  ws.chain_union.reserve(nv);
+  ws.in_A.assign(nv, 0);
+  ws.in_B.assign(nv, 0);
+  return ws;
+}
+
+ContactDerivativeStats AddContactDerivatives(const Model& model, const ContactEngine& engine,
+                                             const ContactData& contact, const Data& rnea,
+                                             ContactDerivativeWorkspace* ws,
+                                             Eigen::MatrixXd* dtau_dq_tangent,
+                                             Eigen::MatrixXd* dtau_dv) {
+  ContactDerivativeStats stats;
+  ws->F_net.setZero();
+  const std::vector<GeometryInstance>& geos = model.geometries();
+  for (int c = 0; c < contact.num_active; ++c) {
+    const ContactResult& r = contact.results[c];
+    const ContactPair& pair = engine.pairs()[r.pair];
+    const GeometryInstance& ga = geos[pair.geometry_a];
+    const GeometryInstance& gb = geos[pair.geometry_b];
+    const RigidTransform X_WGa = GeometryPose(model, rnea, ga);
+    const RigidTransform X_WGb = GeometryPose(model, rnea, gb);
+    PairGeometryJacobian G;
+    if (r.exact) {
+      AnalyticGeometryJacobian(ga.shape, X_WGa, gb.shape, X_WGb, &G);
+    } else {
+      FclGeometryJacobian(ga.shape, X_WGa, gb.shape, X_WGb, &G);
+      ++stats.num_fcl_pairs;
+    }
+    ++stats.num_pairs;
+    const BodyIndex m_A = model.mobilized_body(pair.body_a);
+    const BodyIndex m_B = model.mobilized_body(pair.body_b);
+    const SpatialMotion V_A = m_A == kWorldBody ? SpatialMotion() : rnea.deriv_body_[m_A].V;
+    const SpatialMotion V_B = m_B == kWorldBody ? SpatialMotion() : rnea.deriv_body_[m_B].V;
+    Mat6x24 D;
+    PairForceJacobian(r, G, V_A, V_B, &D);
+    CollectChain(model, m_A, &ws->chain_A);
+    CollectChain(model, m_B, &ws->chain_B);
+    ChainJacobians(rnea, ws->chain_A, V_A, &ws->J_A, &ws->dV_A);
+    ChainJacobians(rnea, ws->chain_B, V_B, &ws->J_B, &ws->dV_B);
+    ws->chain_union.clear();
+    for (int k : ws->chain_A) ws->in_A[k] = 1;
+    for (int k : ws->chain_B) ws->in_B[k] = 1;
+    for (int k : ws->chain_A) ws->chain_union.push_back(k);
+    for (int k : ws->chain_B) {
+      if (!ws->in_A[k]) ws->chain_union.push_back(k);
+    }
+    AddPairTerms(D, ws, rnea, dtau_dq_tangent, dtau_dv);
+    for (int k : ws->chain_union) ws->in_A[k] = ws->in_B[k] = 0;
+    const Eigen::Matrix<double, 6, 1> F0 =
+        (Eigen::Matrix<double, 6, 1>() << r.p_WC.cross(r.force.f), r.force.f).finished();
+    if (m_B != kWorldBody) ws->F_net.col(m_B) += F0;
+    if (m_A != kWorldBody) ws->F_net.col(m_A) -= F0;
+  }
+  AddMotionSubspaceTerms(model, rnea, ws, dtau_dq_tangent);
+  return stats;
+}
+
+}  // namespace idto
