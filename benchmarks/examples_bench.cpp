@@ -1,10 +1,11 @@
-// Time per solver iteration of every example (examples/<name>/<name>.yaml), forward
-// differences, as configured in its file, 1 and 2 threads, penalty and Lagrange multipliers.
+// Time per solver iteration of every example (examples/<name>/<name>.yaml) as configured in its
+// file, with analytic derivatives (the default) and forward differences, 1 and 2 threads,
+// penalty and Lagrange multipliers.
 //
 // Each benchmark iteration is one solver iteration (SolveWarmStart, max_iterations = 1,
 // fixed_iterations) from the example's initial guess after 5 warm-up iterations; the cost
 // re-evaluation at the start of each call is included. Counters: the per-phase breakdown in µs.
-// Names: "examples/<name>/<penalty|lagrange>/threads:<T>".
+// Names: "examples/<name>/<penalty|lagrange>/<analytic|forward>/threads:<T>".
 
 #include <string>
 #include <vector>
@@ -16,7 +17,8 @@
 
 namespace {
 
-void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool lagrange) {
+void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool lagrange,
+                         idto::DerivativeMethod derivatives) {
   const int threads = static_cast<int>(state.range(0));
   idto::ExampleConfig config;
   try {
@@ -30,6 +32,7 @@ void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool 
   o.num_threads = threads;
   o.constraint_method =
       lagrange ? idto::ConstraintMethod::kLagrangeMultipliers : idto::ConstraintMethod::kPenalty;
+  o.derivative_method = derivatives;
   o.max_iterations = 5;
   o.fixed_iterations = true;
   idto::TrajectoryOptimizer opt(config.model, config.problem, o);
@@ -47,15 +50,21 @@ void Register() {
         "bimanual", "bimanual_lift", "bimanual_balance"}) {
     for (bool lagrange : {false, true}) {
       if (name == "pendulum" && lagrange) continue;
-      const std::string bench = "examples/" + name + "/" + (lagrange ? "lagrange" : "penalty");
-      benchmark::RegisterBenchmark(
-          bench.c_str(),
-          [name, lagrange](benchmark::State& s) { BM_ExampleIteration(s, name, lagrange); })
-          ->ArgName("threads")
-          ->Arg(1)
-          ->Arg(2)
-          ->Unit(benchmark::kMillisecond)
-          ->UseRealTime();
+      for (const auto method :
+           {idto::DerivativeMethod::kAnalytic, idto::DerivativeMethod::kForwardDifferences}) {
+        const std::string bench =
+            "examples/" + name + "/" + (lagrange ? "lagrange" : "penalty") +
+            (method == idto::DerivativeMethod::kAnalytic ? "/analytic" : "/forward");
+        benchmark::RegisterBenchmark(bench.c_str(),
+                                     [name, lagrange, method](benchmark::State& s) {
+                                       BM_ExampleIteration(s, name, lagrange, method);
+                                     })
+            ->ArgName("threads")
+            ->Arg(1)
+            ->Arg(2)
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+      }
     }
   }
 }

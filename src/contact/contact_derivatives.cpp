@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include <Eigen/Geometry>
 #include <unsupported/Eigen/AutoDiff>
@@ -125,37 +126,41 @@ void FclGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const Shap
 }
 
 // d F / d(eps_A, eps_B, V_A, V_B) (6 x 24) for F = (p_C x f, f), the force on B at the world
-// origin.
+// origin. With v_c = v_B - v_A + (w_B - w_A) x p_C, v_n = n . v_c, v_t = v_c - v_n n and
+// f = fn(phi, v_n) n + ft(phi, v_n, v_t):
+//   df = a dphi + E dn + K dv_c,  a = dfn/dphi n + dft/dphi,  b = dfn/dv_n n + dft/dv_n,
+//   K = b n^T + dft/dv_t (I - n n^T),  E = fn I + b v_c^T - dft/dv_t (n v_c^T + v_n I),
+// where dv_c = [w_B - w_A]x dp_C along the poses and [[p_C]x, -I, -[p_C]x, I] along the
+// velocities; dm = -[f]x dp_C + [p_C]x df.
 void PairForceJacobian(const ContactResult& r, const PairGeometryJacobian& G,
                        const SpatialMotion& V_A, const SpatialMotion& V_B, Mat6x24* D) {
   const Vector3d& n = r.normal_W;
   const Vector3d& p = r.p_WC;
   const ContactForce& F = r.force;
-  Eigen::Matrix<double, 3, 24> Dp, Dn, Dvc;
-  Eigen::Matrix<double, 1, 24> Dphi;
-  Dp.setZero();
-  Dn.setZero();
-  Dphi.setZero();
-  Dp.leftCols<12>() = 0.5 * (G.p_A + G.p_B);
-  Dn.leftCols<12>() = G.n;
-  Dphi.leftCols<12>() = G.phi;
-  // v_c = (v_B - v_A) + (w_B - w_A) x p_C: the point moves with the poses.
-  Dvc.leftCols<12>().noalias() = Skew<double>(Vector3d(V_B.w - V_A.w)) * Dp.leftCols<12>();
-  const Matrix3d P = Skew<double>(p);
-  Dvc.block<3, 3>(0, 12) = P;
-  Dvc.block<3, 3>(0, 15) = -Matrix3d::Identity();
-  Dvc.block<3, 3>(0, 18) = -P;
-  Dvc.block<3, 3>(0, 21) = Matrix3d::Identity();
   const Vector3d v_c = r.vn * n + r.vt;
-  Eigen::Matrix<double, 1, 24> Dvn = v_c.transpose() * Dn;
-  Dvn.noalias() += n.transpose() * Dvc;
-  Eigen::Matrix<double, 3, 24> Dvt = Dvc - n * Dvn - r.vn * Dn;
-  Eigen::Matrix<double, 3, 24> Df = n * (F.dfn_dphi * Dphi + F.dfn_dvn * Dvn) + F.fn * Dn;
-  Df.noalias() += F.dft_dphi * Dphi + F.dft_dvn * Dvn;
-  Df.noalias() += F.dft_dvt * Dvt;
-  D->bottomRows<3>() = Df;
-  D->topRows<3>().noalias() = -Skew<double>(F.f) * Dp;
-  D->topRows<3>().noalias() += P * Df;
+  const Vector3d a = F.dfn_dphi * n + F.dft_dphi;
+  const Vector3d b = F.dfn_dvn * n + F.dft_dvn;
+  Matrix3d K = b * n.transpose() + F.dft_dvt;
+  K.noalias() -= (F.dft_dvt * n) * n.transpose();
+  Matrix3d E = F.fn * Matrix3d::Identity() + b * v_c.transpose() - r.vn * F.dft_dvt;
+  E.noalias() -= (F.dft_dvt * n) * v_c.transpose();
+  const Matrix3d P = Skew<double>(p);
+  // Poses (12 columns).
+  const Mat3x12 Dp = 0.5 * (G.p_A + G.p_B);
+  const Matrix3d KW = K * Skew<double>(Vector3d(V_B.w - V_A.w));
+  Mat3x12 Df = a * G.phi;
+  Df.noalias() += E * G.n;
+  Df.noalias() += KW * Dp;
+  D->block<3, 12>(3, 0) = Df;
+  D->block<3, 12>(0, 0).noalias() = P * Df;
+  D->block<3, 12>(0, 0).noalias() -= Skew<double>(F.f) * Dp;
+  // Velocities (12 columns): df/dV_A = [K [p]x, -K], df/dV_B = -df/dV_A.
+  const Matrix3d KP = K * P;
+  D->block<3, 3>(3, 12) = KP;
+  D->block<3, 3>(3, 15) = -K;
+  D->block<3, 3>(3, 18) = -KP;
+  D->block<3, 3>(3, 21) = K;
+  D->block<3, 12>(0, 12).noalias() = P * D->block<3, 12>(3, 12);
 }
 
 // The velocity columns of the joints from the root to moving body m (none for the world).
@@ -243,7 +248,8 @@ void AddMotionSubspaceTerms(const Model& model, const Data& rnea, ContactDerivat
 
 }  // namespace
 
-ContactDerivativeWorkspace MakeContactDerivativeWorkspace(const Model& model) {
+ContactDerivativeWorkspace MakeContactDerivativeWorkspace(const Model& model,
+                                                          const ContactEngine& engine) {
   const int nv = model.nv();
   ContactDerivativeWorkspace ws;
   for (auto* M : {&ws.J_A, &ws.J_B, &ws.dV_A, &ws.dV_B, &ws.dF_dx, &ws.dF_dv}) {
@@ -253,6 +259,8 @@ ContactDerivativeWorkspace MakeContactDerivativeWorkspace(const Model& model) {
   ws.chain_A.reserve(nv);
   ws.chain_B.reserve(nv);
   ws.chain_union.reserve(nv);
+  ws.body_pairs.reserve(engine.num_pairs());
+  ws.body_pair_D.reserve(engine.num_pairs());
   ws.in_A.assign(nv, 0);
   ws.in_B.assign(nv, 0);
   return ws;
@@ -265,6 +273,8 @@ ContactDerivativeStats AddContactDerivatives(const Model& model, const ContactEn
                                              Eigen::MatrixXd* dtau_dv) {
   ContactDerivativeStats stats;
   ws->F_net.setZero();
+  ws->body_pairs.clear();
+  ws->body_pair_D.clear();
   const std::vector<GeometryInstance>& geos = model.geometries();
   for (int c = 0; c < contact.num_active; ++c) {
     const ContactResult& r = contact.results[c];
@@ -287,8 +297,26 @@ ContactDerivativeStats AddContactDerivatives(const Model& model, const ContactEn
     const SpatialMotion V_B = m_B == kWorldBody ? SpatialMotion() : rnea.deriv_body_[m_B].V;
     Mat6x24 D;
     PairForceJacobian(r, G, V_A, V_B, &D);
+    // Pairs between the same two bodies share the chain rule below: sum their D first.
+    size_t e = 0;
+    while (e < ws->body_pairs.size() && ws->body_pairs[e] != std::make_pair(m_A, m_B)) ++e;
+    if (e == ws->body_pairs.size()) {
+      ws->body_pairs.emplace_back(m_A, m_B);
+      ws->body_pair_D.push_back(D);
+    } else {
+      ws->body_pair_D[e] += D;
+    }
+    const Eigen::Matrix<double, 6, 1> F0 =
+        (Eigen::Matrix<double, 6, 1>() << r.p_WC.cross(r.force.f), r.force.f).finished();
+    if (m_B != kWorldBody) ws->F_net.col(m_B) += F0;
+    if (m_A != kWorldBody) ws->F_net.col(m_A) -= F0;
+  }
+  for (size_t e = 0; e < ws->body_pairs.size(); ++e) {
+    const auto [m_A, m_B] = ws->body_pairs[e];
     CollectChain(model, m_A, &ws->chain_A);
     CollectChain(model, m_B, &ws->chain_B);
+    const SpatialMotion V_A = m_A == kWorldBody ? SpatialMotion() : rnea.deriv_body_[m_A].V;
+    const SpatialMotion V_B = m_B == kWorldBody ? SpatialMotion() : rnea.deriv_body_[m_B].V;
     ChainJacobians(rnea, ws->chain_A, V_A, &ws->J_A, &ws->dV_A);
     ChainJacobians(rnea, ws->chain_B, V_B, &ws->J_B, &ws->dV_B);
     ws->chain_union.clear();
@@ -298,12 +326,8 @@ ContactDerivativeStats AddContactDerivatives(const Model& model, const ContactEn
     for (int k : ws->chain_B) {
       if (!ws->in_A[k]) ws->chain_union.push_back(k);
     }
-    AddPairTerms(D, ws, rnea, dtau_dq_tangent, dtau_dv);
+    AddPairTerms(ws->body_pair_D[e], ws, rnea, dtau_dq_tangent, dtau_dv);
     for (int k : ws->chain_union) ws->in_A[k] = ws->in_B[k] = 0;
-    const Eigen::Matrix<double, 6, 1> F0 =
-        (Eigen::Matrix<double, 6, 1>() << r.p_WC.cross(r.force.f), r.force.f).finished();
-    if (m_B != kWorldBody) ws->F_net.col(m_B) += F0;
-    if (m_A != kWorldBody) ws->F_net.col(m_A) -= F0;
   }
   AddMotionSubspaceTerms(model, rnea, ws, dtau_dq_tangent);
   return stats;

@@ -17,6 +17,24 @@
 namespace idto {
 namespace {
 
+// *out (nv x nq) += alpha X D for X (nv x nv) and D (nv x nq) a velocity partial (d v / d q or
+// d v / d q_prev), which is block diagonal by joint: v_j depends on joint j's coordinates only.
+// Block by block instead of a dense product: nv sum_j nv_j nq_j flops instead of nv^2 nq.
+void AddTimesVelocityPartial(const Model& model, const Eigen::MatrixXd& X, const Eigen::MatrixXd& D,
+                             double alpha, Eigen::MatrixXd* out) {
+  for (BodyIndex b : model.moving_bodies()) {
+    const int iv = model.velocity_start(b), iq = model.position_start(b);
+    const int nv = model.joint_nv(b), nq = model.joint_nq(b);
+    if (nv == 1 && nq == 1) {
+      out->col(iq) += (alpha * D(iv, iq)) * X.col(iv);
+    } else {
+      // Tiny inner dimension (a joint's nv <= 6): a coefficient-wise product, not GEMM.
+      out->middleCols(iq, nq).noalias() +=
+          alpha * X.middleCols(iv, nv).lazyProduct(D.block(iv, iq, nv, nq));
+    }
+  }
+}
+
 class AnalyticEvaluator final : public TauDerivativeEvaluator {
  public:
   void Calc(const TrajectoryState& s, Transcription* t, TrajectoryDerivatives* d) const override {
@@ -26,21 +44,26 @@ class AnalyticEvaluator final : public TauDerivativeEvaluator {
     ParallelFor(0, t->num_steps(), t->num_threads(), [&](int k, int thread) {
       TranscriptionWorkspace& ws = t->workspace(thread);
       Data& data = ws.data;
-      ComputeRneaDerivatives(model, s.q[k + 1], s.v[k + 1], s.a[k], nullptr, &data);
+      internal::ComputeRneaDerivativesTangent<double>(model, s.q[k + 1], s.v[k + 1], s.a[k],
+                                                      nullptr, &data);
       if (engine != nullptr) {
         AddContactDerivatives(model, *engine, s.contact[k], data, &ws.contact_derivatives,
                               &data.dtau_dq_tangent, &data.dtau_dv);
-        internal::RneaDerivativesToRawCoordinates(model, s.q[k + 1].data(), &data);
       }
+      internal::RneaDerivativesToRawCoordinates(model, s.q[k + 1].data(), &data);
       ws.Mdt = inv_dt * data.M;
       ws.B = data.dtau_dv + ws.Mdt;
       d->dtau_dqp[k] = data.dtau_dq;
-      d->dtau_dqp[k].noalias() += ws.B * d->dv_dq[k + 1];
+      AddTimesVelocityPartial(model, ws.B, d->dv_dq[k + 1], 1.0, &d->dtau_dqp[k]);
       if (k >= 1) {
-        d->dtau_dq[k].noalias() = ws.B * d->dv_dqm[k + 1];
-        d->dtau_dq[k].noalias() -= ws.Mdt * d->dv_dq[k];
+        d->dtau_dq[k].setZero();
+        AddTimesVelocityPartial(model, ws.B, d->dv_dqm[k + 1], 1.0, &d->dtau_dq[k]);
+        AddTimesVelocityPartial(model, ws.Mdt, d->dv_dq[k], -1.0, &d->dtau_dq[k]);
       }
-      if (k >= 2) d->dtau_dqm[k].noalias() = -ws.Mdt * d->dv_dqm[k];
+      if (k >= 2) {
+        d->dtau_dqm[k].setZero();
+        AddTimesVelocityPartial(model, ws.Mdt, d->dv_dqm[k], -1.0, &d->dtau_dqm[k]);
+      }
     });
   }
 };

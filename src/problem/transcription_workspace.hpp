@@ -29,7 +29,7 @@ struct TranscriptionWorkspace {
         scratch_vq(Eigen::MatrixXd::Zero(model.nv(), model.nq())),
         Mdt(Eigen::MatrixXd::Zero(model.nv(), model.nv())),
         B(Eigen::MatrixXd::Zero(model.nv(), model.nv())) {
-    if (engine != nullptr) contact_derivatives = MakeContactDerivativeWorkspace(model);
+    if (engine != nullptr) contact_derivatives = MakeContactDerivativeWorkspace(model, *engine);
     if (engine != nullptr) contact = engine->MakeData(model);
   }
   Data data;

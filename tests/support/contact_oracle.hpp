@@ -105,7 +105,7 @@ inline TauDerivatives AnalyticTauWithContact(const Model& model, const ContactEn
   ForwardKinematics(model, q, v, &data);
   engine.Evaluate(model, data, &contact);
   ComputeRneaDerivatives(model, q, v, a, nullptr, &data);
-  ContactDerivativeWorkspace ws = MakeContactDerivativeWorkspace(model);
+  ContactDerivativeWorkspace ws = MakeContactDerivativeWorkspace(model, engine);
   const ContactDerivativeStats stats = AddContactDerivatives(model, engine, contact, data, &ws,
                                                              &data.dtau_dq_tangent, &data.dtau_dv);
   internal::RneaDerivativesToRawCoordinates(model, q.data(), &data);

@@ -21,6 +21,7 @@
 /// u (dV/dq = s x V + u) recorded by ComputeRneaDerivatives, and the derivative of J^T itself
 /// (d S_j / d x_k = s_k x S_j for k before j).
 
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -43,6 +44,10 @@ struct ContactDerivativeWorkspace {
   std::vector<int> chain_A, chain_B, chain_union;
   /// Per velocity column: membership flags (nv), reset after each pair.
   std::vector<char> in_A, in_B;
+  /// The (mobilized) body pairs in contact and the sum of their pairs' d F / d(eps, V)
+  /// (6 x 24 each); capacity: the engine's number of pairs.
+  std::vector<std::pair<BodyIndex, BodyIndex>> body_pairs;
+  std::vector<Eigen::Matrix<double, 6, 24>> body_pair_D;
 };
 
 /// Counts of the last AddContactDerivatives call.
@@ -51,8 +56,9 @@ struct ContactDerivativeStats {
   int num_fcl_pairs{0};  ///< of which by central differences of FCL's answer
 };
 
-/// A workspace for `model`.
-ContactDerivativeWorkspace MakeContactDerivativeWorkspace(const Model& model);
+/// A workspace for `model` and `engine`.
+ContactDerivativeWorkspace MakeContactDerivativeWorkspace(const Model& model,
+                                                          const ContactEngine& engine);
 
 /// Adds d tau_c / d q (tangent coordinates, as Data::dtau_dq_tangent) to *dtau_dq_tangent
 /// (nv x nv) and d tau_c / d v to *dtau_dv (nv x nv), for the pairs evaluated in `contact`.

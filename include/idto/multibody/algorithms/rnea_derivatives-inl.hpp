@@ -291,8 +291,9 @@ inline void RneaDerivativesToRawCoordinates(const Model& model, const Scalar* q,
       const Scalar n2 =
           q[iq] * q[iq] + q[iq + 1] * q[iq + 1] + q[iq + 2] * q[iq + 2] + q[iq + 3] * q[iq + 3];
       const Scalar scale = n2 > 0.0 ? Scalar(4.0 / n2) : Scalar(0);
+      // Inner dimension 3: a coefficient-based product (GEMM's packing costs more here).
       dq.template middleCols<4>(iq).noalias() =
-          dq_t.template middleCols<3>(iv) * (scale * E.transpose());
+          dq_t.template middleCols<3>(iv).lazyProduct(scale * E.transpose());
       dq.template middleCols<3>(iq + 4) = dq_t.template middleCols<3>(iv + 3);
     } else {
       const int n = model.joint_nv(b);
@@ -303,33 +304,47 @@ inline void RneaDerivativesToRawCoordinates(const Model& model, const Scalar* q,
 
 }  // namespace internal
 
+namespace internal {
+
+/// ComputeRneaDerivatives without the last step: data->dtau_dq (raw coordinates) is not
+/// written (for callers that add to dtau_dq_tangent first, then call
+/// RneaDerivativesToRawCoordinates once).
 template <typename Scalar>
-void ComputeRneaDerivatives(const Model& model, const ConstVectorRef<Scalar>& q,
-                            const ConstVectorRef<Scalar>& v, const ConstVectorRef<Scalar>& a,
-                            const NonDeduced<BodyForcesTpl<Scalar>>* F_ext, DataTpl<Scalar>* data) {
-  internal::CheckNq(model, "ComputeRneaDerivatives", "q", q.size());
-  internal::CheckNv(model, "ComputeRneaDerivatives", "v", v.size());
-  internal::CheckNv(model, "ComputeRneaDerivatives", "a", a.size());
-  internal::CheckBodyForces(model, "ComputeRneaDerivatives", F_ext);
+void ComputeRneaDerivativesTangent(const Model& model, const ConstVectorRef<Scalar>& q,
+                                   const ConstVectorRef<Scalar>& v, const ConstVectorRef<Scalar>& a,
+                                   const NonDeduced<BodyForcesTpl<Scalar>>* F_ext,
+                                   DataTpl<Scalar>* data) {
+  CheckNq(model, "ComputeRneaDerivatives", "q", q.size());
+  CheckNv(model, "ComputeRneaDerivatives", "v", v.size());
+  CheckNv(model, "ComputeRneaDerivatives", "a", a.size());
+  CheckBodyForces(model, "ComputeRneaDerivatives", F_ext);
   const std::vector<BodyIndex>& moving = model.moving_bodies();
   data->X_WB_[0] = RigidTransformTpl<Scalar>::Identity();
-  for (BodyIndex b : moving) {
-    internal::RneaDerivativesForwardBody(model, b, q.data(), v.data(), a.data(), data);
-  }
-  if (F_ext != nullptr) internal::RneaDerivativesExternalForces(model, *F_ext, data);
+  for (BodyIndex b : moving)
+    RneaDerivativesForwardBody(model, b, q.data(), v.data(), a.data(), data);
+  if (F_ext != nullptr) RneaDerivativesExternalForces(model, *F_ext, data);
   // Entries between bodies on different branches are zero and never written.
   data->dtau_dq_tangent.setZero();
   data->dtau_dv.setZero();
   data->M.setZero();
   for (auto it = moving.rbegin(); it != moving.rend(); ++it) {
-    internal::RneaDerivativesBackwardBody(model, *it, F_ext != nullptr, data);
-    internal::RneaDerivativesAccumulate(model, *it, data);
+    RneaDerivativesBackwardBody(model, *it, F_ext != nullptr, data);
+    RneaDerivativesAccumulate(model, *it, data);
   }
   const Eigen::VectorXd& d = model.damping();
   for (int i = 0; i < model.nv(); ++i) {
     data->tau(i) += d[i] * v[i];
     data->dtau_dv(i, i) += d[i];
   }
+}
+
+}  // namespace internal
+
+template <typename Scalar>
+void ComputeRneaDerivatives(const Model& model, const ConstVectorRef<Scalar>& q,
+                            const ConstVectorRef<Scalar>& v, const ConstVectorRef<Scalar>& a,
+                            const NonDeduced<BodyForcesTpl<Scalar>>* F_ext, DataTpl<Scalar>* data) {
+  internal::ComputeRneaDerivativesTangent<Scalar>(model, q, v, a, F_ext, data);
   internal::RneaDerivativesToRawCoordinates(model, q.data(), data);
 }
 
