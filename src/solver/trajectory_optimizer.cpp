@@ -138,7 +138,7 @@ class TrajectoryOptimizer::Impl {
     g_merit_ = g_;
     merit_ = x_.cost;
     if (lagrange()) {
-      if (!SolveKkt(summary)) return false;
+      if (!SolveKkt(s, summary)) return false;
       s->time_multipliers = Seconds(t3, Clock::now());
     } else {
       p_newton_ = -g_merit_;
@@ -155,19 +155,51 @@ class TrajectoryOptimizer::Impl {
 
   // The constrained Newton step: [H A^T; A 0][p; lambda] = -[g; h] (O(N)), then the merit
   // L + h^T lambda and its gradient g + A^T lambda.
-  bool SolveKkt(SolverSummary* summary) {
+  bool SolveKkt(IterationSummary* s, SolverSummary* summary) {
     transcription_.CalcConstraints(x_, &h_);
     for (int j = 0; j < N_; ++j) {
-      for (int s = std::max(j - 1, 1); s <= std::min(j + 1, N_); ++s) {
-        transcription_.ConstraintBlock(derivatives_, j, s, A_.Block(j, s));
+      for (int t = std::max(j - 1, 1); t <= std::min(j + 1, N_); ++t) {
+        transcription_.ConstraintBlock(derivatives_, j, t, A_.Block(j, t));
       }
     }
-    const KktStatus& status = kkt_.Factor(H_, A_);
-    if (!status.ok()) return Fail(summary, status.Message() + "; last good iterate kept");
+    double shift = 0.0;
+    const bool factored = FactorKktWithShift(&shift);
+    s->regularization += shift;
+    if (!factored) {
+      return Fail(summary, kkt_.status().Message() +
+                               " (also with the Hessian shifted by up to 1e-2 of its diagonal); "
+                               "last good iterate kept");
+    }
     kkt_.Solve(g_, h_, &p_newton_, &lambda_);
     A_.AddMultiplyTranspose(lambda_, &g_merit_);
     merit_ = x_.cost + h_.dot(lambda_);
     return true;
+  }
+
+  // Factors the KKT system; where round-off makes the Hessian's reduced blocks indefinite (stiff
+  // contact: condition numbers beyond 1e12) shifts H's diagonal as FactorizeWithShift does
+  // (relative shifts 1e-12 .. 1e-2, x100 each attempt) and retries. *mu: the relative shift
+  // added here (0 when none was needed).
+  bool FactorKktWithShift(double* mu) {
+    *mu = 0.0;
+    if (kkt_.Factor(H_, A_).ok()) return true;
+    H_.Diagonal(&scratch_b_);
+    const int n = H_.block_size();
+    double applied = 0.0;
+    for (double next = 1e-12; next <= 1e-2 * (1 + 1e-9); next *= 100.0) {
+      for (int r = 0; r < N_; ++r) {
+        for (int i = 0; i < n; ++i) {
+          const double d = scratch_b_(r * n + i);
+          H_.C(r)(i, i) += (next - applied) * (d > 0.0 ? d : 1.0);
+        }
+      }
+      applied = next;
+      if (kkt_.Factor(H_, A_).ok()) {
+        *mu = applied;
+        return true;
+      }
+    }
+    return false;
   }
 
   bool Fail(SolverSummary* summary, const std::string& message) const {
