@@ -47,7 +47,7 @@ void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool 
 void Register() {
   for (const std::string name :
        {"pendulum", "acrobot", "spinner", "hopper", "quadruped", "quadruped_hills", "allegro",
-        "bimanual", "bimanual_lift", "bimanual_balance"}) {
+        "bimanual", "bimanual_lift", "bimanual_balance", "quadruped_limits", "allegro_limits"}) {
     for (bool lagrange : {false, true}) {
       if (name == "pendulum" && lagrange) continue;
       for (const auto method :

@@ -71,6 +71,54 @@ TaskResult GenericTask(const ExampleConfig& config, const Trajectory& solution) 
   return result;
 }
 
+// How far the plan goes past the problem's joint limits (its own bounds, or the model's):
+// position (rad or m), velocity, and effort relative to the limit.
+struct LimitExcess {
+  double position{0.0}, velocity{0.0}, effort_relative{0.0};
+};
+
+LimitExcess MeasureLimitExcess(const ExampleConfig& config, const Trajectory& solution) {
+  const Model& model = config.model;
+  const LimitPenalties& l = config.problem.limits;
+  const Eigen::VectorXd& lo = l.q_lower.size() ? l.q_lower : model.position_lower_limits();
+  const Eigen::VectorXd& hi = l.q_upper.size() ? l.q_upper : model.position_upper_limits();
+  const Eigen::VectorXd& v_max = l.v_max.size() ? l.v_max : model.velocity_limits();
+  const Eigen::VectorXd& tau_max = l.tau_max.size() ? l.tau_max : model.effort_limits();
+  LimitExcess e;
+  for (const Eigen::VectorXd& q : solution.q) {
+    for (int i = 0; i < q.size(); ++i)
+      e.position = std::max({e.position, q(i) - hi(i), lo(i) - q(i)});
+  }
+  for (const Eigen::VectorXd& v : solution.v) {
+    for (int i = 0; i < v.size(); ++i) e.velocity = std::max(e.velocity, std::abs(v(i)) - v_max(i));
+  }
+  const int N = static_cast<int>(solution.q.size()) - 1;
+  for (int k = 0; k < N && k < static_cast<int>(solution.tau.size()); ++k) {
+    for (int i = 0; i < model.nv(); ++i) {
+      if (!std::isfinite(tau_max(i)) || tau_max(i) <= 0.0) continue;
+      e.effort_relative =
+          std::max(e.effort_relative, (std::abs(solution.tau[k](i)) - tau_max(i)) / tau_max(i));
+    }
+  }
+  return e;
+}
+
+// An example with joint limits: the base example's task, and every joint within its limits to
+// 0.01 rad (or m), 0.1 rad/s and 2% of the effort limit.
+TaskFunction WithLimits(TaskFunction base) {
+  return [base](const ExampleConfig& config, const Trajectory& solution) {
+    TaskResult result = base(config, solution);
+    const LimitExcess e = MeasureLimitExcess(config, solution);
+    result.metrics.push_back(Scalar("max_position_limit_excess", e.position));
+    result.metrics.push_back(Scalar("max_velocity_limit_excess", e.velocity));
+    result.metrics.push_back(Scalar("max_effort_limit_excess_relative", e.effort_relative));
+    const bool within = e.position <= 0.01 && e.velocity <= 0.1 && e.effort_relative <= 0.02;
+    result.task_success = result.task_success && within;
+    result.criterion += "; joints within their limits to 0.01 rad, 0.1 rad/s, 2% of effort";
+    return result;
+  };
+}
+
 const std::map<std::string, TaskFunction>& Registry() {
   static const std::map<std::string, TaskFunction> registry = {
       {"pendulum", PendulumTask},
@@ -78,6 +126,8 @@ const std::map<std::string, TaskFunction>& Registry() {
       {"quadruped", QuadrupedTask},
       {"quadruped_hills", QuadrupedTask},
       {"allegro", AllegroTask},
+      {"quadruped_limits", WithLimits(QuadrupedTask)},
+      {"allegro_limits", WithLimits(AllegroTask)},
       {"bimanual", BimanualMoveTask},
       {"bimanual_lift", BimanualLiftTask},
       {"bimanual_balance", BimanualBalanceTask},

@@ -54,6 +54,7 @@ class ConfigLoader {
   void ReadNominal(const MapReader& p, ProblemDefinition* problem) const;
   void ReadWeights(const MapReader& p, ProblemDefinition* problem) const;
   void ReadUnactuatedDofs(const MapReader& p, ProblemDefinition* problem) const;
+  void ReadLimits(const MapReader& p, ProblemDefinition* problem) const;
   void LoadMpcProblem(const YAML::Node& problem, const YAML::Node& overrides);
 
   // solver_section.cpp: config_.solver.

@@ -19,9 +19,11 @@ namespace {
 
 using Space = JointVectorReader::Space;
 
-const std::vector<std::string> kProblemKeys = {"time_step", "horizon",         "num_steps",
-                                               "q_init",    "v_init",          "nominal",
-                                               "weights",   "unactuated_dofs", "initial_guess"};
+const std::vector<std::string> kProblemKeys = {
+    "time_step", "horizon", "num_steps",       "q_init",        "v_init",
+    "nominal",   "weights", "unactuated_dofs", "initial_guess", "limits"};
+const std::vector<std::string> kLimitKeys = {"position_weight", "velocity_weight", "effort_weight",
+                                             "velocity", "effort"};
 const std::vector<std::string> kNominalKeys = {"q_nom", "v_nom", "q_start", "q_end"};
 const std::vector<std::string> kWeightKeys = {"Qq", "Qv", "R", "Qfq", "Qfv"};
 
@@ -64,6 +66,7 @@ void ConfigLoader::LoadProblem(const YAML::Node& node, const std::string& path) 
   ReadNominal(p, &problem);
   ReadWeights(p, &problem);
   ReadUnactuatedDofs(p, &problem);
+  ReadLimits(p, &problem);
   config_.initial_guess =
       static_cast<InitialGuessType>(p.Enum("initial_guess", {"interpolate", "constant", "nominal"},
                                            static_cast<int>(InitialGuessType::kInterpolate)));
@@ -132,6 +135,28 @@ void ConfigLoader::ReadNominal(const MapReader& p, ProblemDefinition* problem) c
   problem->v_nom.assign(N + 1, v_nom);
   for (int k = 0; k <= N; ++k) {
     problem->q_nom[k] = InterpolateConfiguration(model, q_start, q_end, static_cast<double>(k) / N);
+  }
+}
+
+// Joint limits as penalties (off unless a weight is given): position bounds from the model
+// (URDF <limit>); velocity and effort maxima from the model unless given here.
+void ConfigLoader::ReadLimits(const MapReader& p, ProblemDefinition* problem) const {
+  problem->limits = LimitPenalties{};
+  if (!p.Has("limits")) return;
+  const Model& model = config_.model;
+  const JointVectorReader joints(reader_, model);
+  const MapReader l(reader_, p.Get("limits"), p.Path("limits"), kLimitKeys);
+  LimitPenalties& limits = problem->limits;
+  limits.position_weight = l.NonNegative("position_weight", 0.0);
+  limits.velocity_weight = l.NonNegative("velocity_weight", 0.0);
+  limits.effort_weight = l.NonNegative("effort_weight", 0.0);
+  if (l.Has("velocity")) {
+    limits.v_max = joints.Read(l.Get("velocity"), l.Path("velocity"), Space::kVelocities,
+                               model.velocity_limits(), true);
+  }
+  if (l.Has("effort")) {
+    limits.tau_max = joints.Read(l.Get("effort"), l.Path("effort"), Space::kVelocities,
+                                 model.effort_limits(), true);
   }
 }
 

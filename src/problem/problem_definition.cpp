@@ -1,6 +1,7 @@
 #include "idto/problem/problem_definition.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "idto/core/errors.hpp"
@@ -21,6 +22,51 @@ void CheckWeights(const std::string& name, const Eigen::VectorXd& w, int size,
                   const char* size_name) {
   CheckSize(kWhere, name, w.size(), size, size_name);
   CheckNonNegative(kWhere, name, w);
+}
+
+}  // namespace
+
+namespace {
+
+void CheckLimitWeight(const char* name, double w) {
+  if (!(std::isfinite(w) && w >= 0.0)) {
+    ThrowInvalidArgument(kWhere, std::string("limits.") + name, FormatValue(w),
+                         "a finite number >= 0");
+  }
+}
+
+// Bounds may be infinite (no limit) but not NaN; sizes as the model's.
+void CheckBounds(const std::string& name, const Eigen::VectorXd& x, int size, bool non_negative) {
+  if (x.size() == 0) return;
+  if (x.size() != size) {
+    ThrowInvalidArgument(kWhere, "limits." + name, std::to_string(x.size()) + " entries",
+                         std::to_string(size) + " entries (or none: the model's limits)");
+  }
+  for (int i = 0; i < size; ++i) {
+    if (std::isnan(x(i)) || (non_negative && x(i) < 0.0)) {
+      ThrowInvalidArgument(kWhere, "limits." + name + "[" + std::to_string(i) + "]",
+                           FormatValue(x(i)),
+                           non_negative ? "a number >= 0 (inf: no limit)" : "a number (or inf)");
+    }
+  }
+}
+
+void ValidateLimits(const Model& model, const LimitPenalties& l) {
+  CheckLimitWeight("position_weight", l.position_weight);
+  CheckLimitWeight("velocity_weight", l.velocity_weight);
+  CheckLimitWeight("effort_weight", l.effort_weight);
+  CheckBounds("q_lower", l.q_lower, model.nq(), false);
+  CheckBounds("q_upper", l.q_upper, model.nq(), false);
+  CheckBounds("v_max", l.v_max, model.nv(), true);
+  CheckBounds("tau_max", l.tau_max, model.nv(), true);
+  const Eigen::VectorXd& lo = l.q_lower.size() ? l.q_lower : model.position_lower_limits();
+  const Eigen::VectorXd& hi = l.q_upper.size() ? l.q_upper : model.position_upper_limits();
+  for (int i = 0; i < model.nq(); ++i) {
+    if (lo(i) > hi(i)) {
+      ThrowInvalidArgument(kWhere, "limits.q_lower[" + std::to_string(i) + "]", FormatValue(lo(i)),
+                           "at most q_upper[" + std::to_string(i) + "] = " + FormatValue(hi(i)));
+    }
+  }
 }
 
 }  // namespace
@@ -68,6 +114,7 @@ void ProblemDefinition::Validate(const Model& model) const {
     }
   }
   contact.parameters.Validate("ProblemDefinition: contact.parameters");
+  ValidateLimits(model, limits);
 }
 
 std::vector<int> ProblemDefinition::UnactuatedDofs(const Model& model) const {

@@ -11,6 +11,44 @@
 
 namespace idto {
 
+namespace {
+
+// How far x lies outside [lo, hi] (signed; 0 inside).
+inline double Excess(double x, double lo, double hi) {
+  return x > hi ? x - hi : (x < lo ? x - lo : 0.0);
+}
+
+// out_i += w excess_i: the limit residuals' contribution to a weighted residual vector.
+template <typename Out>
+void AddExcess(const Eigen::VectorXd& x, const Eigen::VectorXd& lo, const Eigen::VectorXd& hi,
+               double w, Out* out) {
+  for (Eigen::Index i = 0; i < x.size(); ++i) (*out)(i) += w * Excess(x(i), lo(i), hi(i));
+}
+
+// *out = base + w on the entries outside [lo, hi] (the Gauss-Newton weight of the limit terms).
+const Eigen::VectorXd& ActiveWeights(const Eigen::VectorXd& base, const Eigen::VectorXd& x,
+                                     const Eigen::VectorXd& lo, const Eigen::VectorXd& hi, double w,
+                                     Eigen::VectorXd* out) {
+  if (w <= 0.0) return base;
+  *out = base;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    if (x(i) > hi(i) || x(i) < lo(i)) (*out)(i) += w;
+  }
+  return *out;
+}
+
+double ExcessSquared(const Eigen::VectorXd& x, const Eigen::VectorXd& lo,
+                     const Eigen::VectorXd& hi) {
+  double sum = 0.0;
+  for (Eigen::Index i = 0; i < x.size(); ++i) {
+    const double e = Excess(x(i), lo(i), hi(i));
+    sum += e * e;
+  }
+  return sum;
+}
+
+}  // namespace
+
 Transcription::Transcription(const Model& model, const ProblemDefinition& problem)
     : model_(model), problem_(problem) {
   problem_.Validate(model_);
@@ -61,6 +99,23 @@ void Transcription::SetPenaltyWeight(double weight) {
   WR_ = dt_ * R_eff_;
   Wq_run_ = dt_ * problem_.Qq;
   Wv_run_ = dt_ * problem_.Qv;
+  SetUpLimits();
+}
+
+void Transcription::SetUpLimits() {
+  const LimitPenalties& l = problem_.limits;
+  const auto either = [](const Eigen::VectorXd& given, const Eigen::VectorXd& model) {
+    return given.size() > 0 ? given : model;
+  };
+  q_lo_ = either(l.q_lower, model_.position_lower_limits());
+  q_hi_ = either(l.q_upper, model_.position_upper_limits());
+  v_hi_ = either(l.v_max, model_.velocity_limits());
+  tau_hi_ = either(l.tau_max, model_.effort_limits());
+  v_lo_ = -v_hi_;
+  tau_lo_ = -tau_hi_;
+  wq_lim_ = dt_ * l.position_weight;
+  wv_lim_ = dt_ * l.velocity_weight;
+  wt_lim_ = dt_ * l.effort_weight;
 }
 
 void Transcription::SetNumThreads(int num_threads) {
@@ -168,7 +223,7 @@ double Transcription::Cost(const TrajectoryState& s) const {
       const double e = s.v[k](i) - problem_.v_nom[k](i);
       running += problem_.Qv(i) * e * e + R_eff_(i) * s.tau[k](i) * s.tau[k](i);
     }
-    L += 0.5 * dt_ * running;
+    L += 0.5 * dt_ * running + LimitCost(s, k);
   }
   double terminal = 0.0;
   for (int i = 0; i < nq_; ++i) {
@@ -179,7 +234,17 @@ double Transcription::Cost(const TrajectoryState& s) const {
     const double e = s.v[N_](i) - problem_.v_nom[N_](i);
     terminal += problem_.Qfv(i) * e * e;
   }
-  return L + 0.5 * terminal;
+  return L + 0.5 * terminal + LimitCost(s, N_);
+}
+
+double Transcription::LimitCost(const TrajectoryState& s, int k) const {
+  double sum = 0.0;
+  if (k >= 1) {
+    sum += wq_lim_ * ExcessSquared(s.q[k], q_lo_, q_hi_);
+    sum += wv_lim_ * ExcessSquared(s.v[k], v_lo_, v_hi_);
+  }
+  if (k < N_) sum += wt_lim_ * ExcessSquared(s.tau[k], tau_lo_, tau_hi_);
+  return 0.5 * sum;
 }
 
 double Transcription::ConstraintViolation(const TrajectoryState& s) const {
@@ -204,15 +269,19 @@ void Transcription::CalcGradient(const TrajectoryState& s, const TrajectoryDeriv
     Eigen::VectorXd& t = workspaces_[thread]->scratch_v;
     auto gk = g->segment((k - 1) * nq_, nq_);
     gk = Wq(k).cwiseProduct(s.q[k] - problem_.q_nom[k]);
+    if (wq_lim_ > 0.0) AddExcess(s.q[k], q_lo_, q_hi_, wq_lim_, &gk);
     t = Wv(k).cwiseProduct(s.v[k] - problem_.v_nom[k]);
+    if (wv_lim_ > 0.0) AddExcess(s.v[k], v_lo_, v_hi_, wv_lim_, &t);
     gk.noalias() += d.dv_dq[k].transpose() * t;
     if (k < N_) {
       t = Wv(k + 1).cwiseProduct(s.v[k + 1] - problem_.v_nom[k + 1]);
+      if (wv_lim_ > 0.0) AddExcess(s.v[k + 1], v_lo_, v_hi_, wv_lim_, &t);
       gk.noalias() += d.dv_dqm[k + 1].transpose() * t;
     }
     for (int j = k - 1; j <= k + 1; ++j) {
       if (j < 0 || j > N_ - 1) continue;
       t = WR_.cwiseProduct(s.tau[j]);
+      if (wt_lim_ > 0.0) AddExcess(s.tau[j], tau_lo_, tau_hi_, wt_lim_, &t);
       gk.noalias() += d.DtauDq(j, k).transpose() * t;
     }
   });
@@ -229,17 +298,27 @@ void AddWeightedProduct(const Eigen::MatrixXd& X, const Eigen::VectorXd& w,
 
 }  // namespace
 
-void Transcription::CalcHessianRow(const TrajectoryDerivatives& d, int k, Eigen::MatrixXd* T,
-                                   PentaDiagonalMatrix* H) const {
+void Transcription::CalcHessianRow(const TrajectoryState& s, const TrajectoryDerivatives& d, int k,
+                                   TranscriptionWorkspace* ws, PentaDiagonalMatrix* H) const {
+  Eigen::MatrixXd* T = &ws->scratch_vq;
+  // Weights with the active limit terms added (the plain weights when limits are off).
+  const auto w_v = [&](int i, Eigen::VectorXd* out) -> const Eigen::VectorXd& {
+    return ActiveWeights(Wv(i), s.v[i], v_lo_, v_hi_, wv_lim_, out);
+  };
+  const auto w_tau = [&](int j) -> const Eigen::VectorXd& {
+    return ActiveWeights(WR_, s.tau[j], tau_lo_, tau_hi_, wt_lim_, &ws->w_tau);
+  };
   const int r = k - 1;
   Eigen::MatrixXd& C = H->C(r);
   C.setZero();
-  C.diagonal() = Wq(k);
-  AddWeightedProduct(d.dv_dq[k], Wv(k), d.dv_dq[k], T, &C);
-  if (k < N_) AddWeightedProduct(d.dv_dqm[k + 1], Wv(k + 1), d.dv_dqm[k + 1], T, &C);
+  C.diagonal() = ActiveWeights(Wq(k), s.q[k], q_lo_, q_hi_, wq_lim_, &ws->w_q);
+  const Eigen::VectorXd& wv_k = w_v(k, &ws->w_v);
+  AddWeightedProduct(d.dv_dq[k], wv_k, d.dv_dq[k], T, &C);
+  if (k < N_)
+    AddWeightedProduct(d.dv_dqm[k + 1], w_v(k + 1, &ws->w_v_next), d.dv_dqm[k + 1], T, &C);
   for (int j = k - 1; j <= k + 1; ++j) {
     if (j < 0 || j > N_ - 1) continue;
-    AddWeightedProduct(d.DtauDq(j, k), WR_, d.DtauDq(j, k), T, &C);
+    AddWeightedProduct(d.DtauDq(j, k), w_tau(j), d.DtauDq(j, k), T, &C);
   }
   // Exact symmetry of the diagonal block.
   for (int c = 0; c < nq_; ++c) {
@@ -252,25 +331,24 @@ void Transcription::CalcHessianRow(const TrajectoryDerivatives& d, int k, Eigen:
   if (k >= 2) {
     Eigen::MatrixXd& B = H->B(r);
     B.setZero();
-    AddWeightedProduct(d.dv_dq[k], Wv(k), d.dv_dqm[k], T, &B);
+    AddWeightedProduct(d.dv_dq[k], wv_k, d.dv_dqm[k], T, &B);
     for (int j = k - 1; j <= k; ++j) {
       if (j > N_ - 1) continue;
-      AddWeightedProduct(d.DtauDq(j, k), WR_, d.DtauDq(j, k - 1), T, &B);
+      AddWeightedProduct(d.DtauDq(j, k), w_tau(j), d.DtauDq(j, k - 1), T, &B);
     }
   }
   if (k >= 3) {
     Eigen::MatrixXd& A = H->A(r);
     A.setZero();
-    AddWeightedProduct(d.DtauDq(k - 1, k), WR_, d.DtauDq(k - 1, k - 2), T, &A);
+    AddWeightedProduct(d.DtauDq(k - 1, k), w_tau(k - 1), d.DtauDq(k - 1, k - 2), T, &A);
   }
 }
 
-void Transcription::CalcHessian(const TrajectoryState&, const TrajectoryDerivatives& d,
+void Transcription::CalcHessian(const TrajectoryState& s, const TrajectoryDerivatives& d,
                                 PentaDiagonalMatrix* H) {
   // One block row per task: rows are independent, so the result is deterministic.
-  ParallelFor(1, N_ + 1, num_threads_, [&](int k, int thread) {
-    CalcHessianRow(d, k, &workspaces_[thread]->scratch_vq, H);
-  });
+  ParallelFor(1, N_ + 1, num_threads_,
+              [&](int k, int thread) { CalcHessianRow(s, d, k, workspaces_[thread].get(), H); });
 }
 
 void Transcription::CalcConstraints(const TrajectoryState& s, Eigen::VectorXd* h) const {

@@ -28,7 +28,11 @@ struct TranscriptionWorkspace {
         scratch_v(Eigen::VectorXd::Zero(model.nv())),
         scratch_vq(Eigen::MatrixXd::Zero(model.nv(), model.nq())),
         Mdt(Eigen::MatrixXd::Zero(model.nv(), model.nv())),
-        B(Eigen::MatrixXd::Zero(model.nv(), model.nv())) {
+        B(Eigen::MatrixXd::Zero(model.nv(), model.nv())),
+        w_q(Eigen::VectorXd::Zero(model.nq())),
+        w_v(Eigen::VectorXd::Zero(model.nv())),
+        w_v_next(Eigen::VectorXd::Zero(model.nv())),
+        w_tau(Eigen::VectorXd::Zero(model.nv())) {
     if (engine != nullptr) contact_derivatives = MakeContactDerivativeWorkspace(model, *engine);
     if (engine != nullptr) contact = engine->MakeData(model);
   }
@@ -45,6 +49,8 @@ struct TranscriptionWorkspace {
   // Analytic derivatives: M / dt and d ID / d v + M / dt (nv x nv), and the contact part's
   // scratch.
   Eigen::MatrixXd Mdt, B;
+  // Hessian rows with limit penalties: the weights with the active limit terms (nq, nv, nv, nv).
+  Eigen::VectorXd w_q, w_v, w_v_next, w_tau;
   ContactDerivativeWorkspace contact_derivatives;
 };
 

@@ -332,6 +332,28 @@ TEST(ConfigTest, DerivativeMethods) {
                                      HasSubstr("one of forward, central, analytic"))));
 }
 
+TEST(ConfigTest, JointLimitPenalties) {
+  // problem.limits: weights (off when absent) and per-joint velocity / effort maxima over the
+  // model's; unknown keys and negative weights are errors naming the key.
+  EXPECT_FALSE(LoadText(kBase).problem.limits.any());
+  const ExampleConfig config =
+      LoadText(With("q_init: [0, 0]",
+                    "q_init: [0, 0]\n  limits: {position_weight: 100, effort_weight: 10,"
+                    " effort: {elbow: 2.5}, velocity: 3}"));
+  const LimitPenalties& l = config.problem.limits;
+  EXPECT_EQ(l.position_weight, 100.0);
+  EXPECT_EQ(l.velocity_weight, 0.0);
+  EXPECT_EQ(l.effort_weight, 10.0);
+  ASSERT_EQ(l.tau_max.size(), 2);
+  EXPECT_EQ(l.tau_max(1), 2.5);
+  EXPECT_EQ(l.tau_max(0), config.model.effort_limits()(0));
+  EXPECT_EIGEN_NEAR(l.v_max, Eigen::Vector2d(3.0, 3.0), 0.0);
+  EXPECT_THAT(Loading(With("q_init: [0, 0]", "q_init: [0, 0]\n  limits: {stiffness: 1}")),
+              ThrowsMessage<FileError>(HasSubstr("problem.limits")));
+  EXPECT_THAT(Loading(With("q_init: [0, 0]", "q_init: [0, 0]\n  limits: {effort_weight: -1}")),
+              ThrowsMessage<FileError>(HasSubstr("problem.limits.effort_weight")));
+}
+
 TEST(ConfigTest, InitialGuessTypes) {
   ExampleConfig config = LoadText(
       With("q_init: [0, 0]", "q_init: [0, 0]\n  nominal: {q_nom: {shoulder: 1, elbow: 2}}"));

@@ -20,6 +20,22 @@
 
 namespace idto {
 
+/// Joint limits as smooth penalties in the cost (docs/solver.md, "Joint limits"): for each
+/// limited entry x with bounds [lo, hi], the residual r = x - hi above, x - lo below, 0 inside
+/// adds 1/2 w dt r^2 per time step: on q_k and v_k (k = 1..N) and on tau_k (k = 0..N-1). The
+/// residuals are Gauss-Newton terms like the tracking ones (zero inside the limits, quadratic
+/// outside). A weight of 0 (the default) turns that kind of limit off.
+struct LimitPenalties {
+  double position_weight{0.0};  ///< w on q outside [q_lower, q_upper]
+  double velocity_weight{0.0};  ///< w on |v_i| above v_max_i
+  double effort_weight{0.0};    ///< w on |tau_i| above tau_max_i
+  /// Bounds; empty: the model's (Model::position_lower_limits() etc., from the URDF). q_lower,
+  /// q_upper: nq (quaternion entries unbounded); v_max, tau_max: nv (>= 0; +inf: none).
+  Eigen::VectorXd q_lower, q_upper, v_max, tau_max;
+
+  bool any() const { return position_weight > 0 || velocity_weight > 0 || effort_weight > 0; }
+};
+
 /// Everything that defines one trajectory optimization problem on a Model.
 struct ProblemDefinition {
   double time_step{0.05};  ///< dt, s (> 0)
@@ -44,6 +60,9 @@ struct ProblemDefinition {
   /// model has fewer than two geometries.
   bool enable_contact{true};
   ContactOptions contact;
+
+  /// Joint limits as penalties (off by default).
+  LimitPenalties limits;
 
   /// Throws InvalidArgument naming the field, the value found and what was expected: sizes,
   /// non-finite entries, negative weights, non-positive time step, N < 1, bad DoF indices.

@@ -141,8 +141,12 @@ class Transcription {
   // Weights of step k's position and velocity residuals (dt Q for k < N, Qf for k = N).
   const Eigen::VectorXd& Wq(int k) const { return k < N_ ? Wq_run_ : problem_.Qfq; }
   const Eigen::VectorXd& Wv(int k) const { return k < N_ ? Wv_run_ : problem_.Qfv; }
-  void CalcHessianRow(const TrajectoryDerivatives& d, int k, Eigen::MatrixXd* T,
-                      PentaDiagonalMatrix* H) const;
+  void CalcHessianRow(const TrajectoryState& s, const TrajectoryDerivatives& d, int k,
+                      TranscriptionWorkspace* ws, PentaDiagonalMatrix* H) const;
+  // The limit bounds and weights (times dt) from problem_.limits and the model.
+  void SetUpLimits();
+  // 1/2 dt sum of the weighted squared limit excesses of q_k, v_k (k >= 1) and tau_k (k < N).
+  double LimitCost(const TrajectoryState& s, int k) const;
 
   Model model_;
   ProblemDefinition problem_;
@@ -159,6 +163,9 @@ class Transcription {
   DerivativeMethod derivative_method_{DerivativeMethod::kAnalytic};
   double relative_step_{0.0};
   bool custom_evaluator_{false};
+  // Limit penalties: bounds (nq, nv, nv; +-inf where none) and weights times dt (0: off).
+  Eigen::VectorXd q_lo_, q_hi_, v_lo_, v_hi_, tau_lo_, tau_hi_;
+  double wq_lim_{0.0}, wv_lim_{0.0}, wt_lim_{0.0};
   // For each position coordinate: the bodies whose pose or velocity it moves (num_bodies).
   std::vector<std::vector<char>> moved_by_q_;
 };
