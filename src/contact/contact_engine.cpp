@@ -7,6 +7,7 @@
 #include <string>
 
 #include "idto/core/errors.hpp"
+#include "idto/geometry/analytic_distance.hpp"
 #include "idto/geometry/signed_distance.hpp"
 
 namespace idto {
@@ -403,13 +404,24 @@ bool ContactEngine::EvaluatePair(const Model& model, const Data& data, int i,
     }
     if (lower_bound > pair.cutoff_distance) return false;
   }
-  const Eigen::Isometry3d X_WGa = data.X_WB(pair.body_a) * ga.X_BG;
-  const Eigen::Isometry3d X_WGb = data.X_WB(pair.body_b) * gb.X_BG;
-  const SignedDistanceResult sd = SignedDistance(ga.shape, X_WGa, gb.shape, X_WGb);
   r->pair = i;
+  // Analytic pairs straight through the pair code on the body poses (no Isometry round trip
+  // and no argument checks: the shapes were checked when the model was built, and a
+  // non-finite pose gives a non-finite result, which the solver rejects as a step).
+  SignedDistanceResultTpl<double> sd;
+  const RigidTransform X_WGa = X_WA * RigidTransform(ga.X_BG.linear(), ga.X_BG.translation());
+  const RigidTransform X_WGb = X_WB * RigidTransform(gb.X_BG.linear(), gb.X_BG.translation());
+  r->exact = AnalyticSignedDistance<double>(ga.shape, X_WGa, gb.shape, X_WGb, &sd);
+  if (!r->exact) {
+    const SignedDistanceResult fcl = SignedDistance(ga.shape, data.X_WB(pair.body_a) * ga.X_BG,
+                                                    gb.shape, data.X_WB(pair.body_b) * gb.X_BG);
+    sd.distance = fcl.distance;
+    sd.normal_W = fcl.normal_W;
+    sd.p_WA = fcl.p_WA;
+    sd.p_WB = fcl.p_WB;
+  }
   r->phi = sd.distance;
   r->normal_W = sd.normal_W;
-  r->exact = sd.exact;
   r->p_WC = 0.5 * (sd.p_WA + sd.p_WB);
   // Velocity of C moving with B relative to C moving with A.
   const Eigen::Vector3d v_WCb =
