@@ -38,16 +38,23 @@ ExampleConfig LoadExample(const Context& context, const std::string& name) {
 
 ExampleConfig LoadEditedExample(const Context& context, const std::string& name,
                                 const std::string& old_text, const std::string& new_text) {
+  return LoadEditedExample(context, name, {{old_text, new_text}});
+}
+
+ExampleConfig LoadEditedExample(const Context& context, const std::string& name,
+                                const std::vector<std::pair<std::string, std::string>>& edits) {
   const std::string path = FindExampleConfig(name, context.share_dirs);
   std::ifstream in(path);
   std::stringstream buffer;
   buffer << in.rdbuf();
   std::string text = buffer.str();
-  const size_t at = text.find(old_text);
-  if (at == std::string::npos || text.find(old_text, at + 1) != std::string::npos) {
-    throw std::runtime_error(path + ": expected exactly one '" + old_text + "' to replace");
+  for (const auto& [old_text, new_text] : edits) {
+    const size_t at = text.find(old_text);
+    if (at == std::string::npos || text.find(old_text, at + 1) != std::string::npos) {
+      throw std::runtime_error(path + ": expected exactly one '" + old_text + "' to replace");
+    }
+    text.replace(at, old_text.size(), new_text);
   }
-  text.replace(at, old_text.size(), new_text);
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
   return LoadExampleConfigString(text, path, base_dir, context.share_dirs);
 }

@@ -5,6 +5,7 @@
 /// task measures every study reports.
 
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -37,6 +38,9 @@ ExampleConfig LoadExample(const Context& context, const std::string& name);
 /// as the number of steps). Throws when `old_text` does not occur exactly once.
 ExampleConfig LoadEditedExample(const Context& context, const std::string& name,
                                 const std::string& old_text, const std::string& new_text);
+/// As above with several (old_text, new_text) replacements, applied in order.
+ExampleConfig LoadEditedExample(const Context& context, const std::string& name,
+                                const std::vector<std::pair<std::string, std::string>>& edits);
 
 /// One solve and what it produced.
 struct SolveResult {

@@ -66,17 +66,11 @@ double Exponent(const std::vector<int>& n, const std::vector<double>& t, int n_m
   return (m * sxy - sx * sy) / (m * sxx - sx * sx);
 }
 
-}  // namespace
-
-StudyResult RunScalingStudy(const Context& context) {
-  StudyResult result;
-  result.id = "scaling";
-  result.title = "Threads and horizon";
+/// The thread study: 1 vs 2 threads per example, a table, a reading and one finding each.
+std::string ThreadsSection(const Context& context, StudyResult* result) {
   const int iterations = context.quick ? 4 : 20;
   const int repeats = context.quick ? 1 : 5;
   std::ostringstream md;
-
-  // ---- Threads.
   const std::string load_at_start = ReadLoadAverage();
   const std::vector<std::string> examples =
       context.quick
@@ -117,14 +111,14 @@ StudyResult RunScalingStudy(const Context& context) {
     f.free = identical;
     f.accuracy = identical ? "none: bitwise-identical trajectory and cost"
                            : "the trajectory differs from the 1-thread run";
-    result.findings.push_back(f);
+    result->findings.push_back(f);
   }
   md << threads.Markdown() << "\n";
   {
     double best = 0.0, worst = 1e300;
     std::string best_name, worst_name;
     bool all_identical = true;
-    for (const Finding& f : result.findings) {
+    for (const Finding& f : result->findings) {
       if (f.speedup > best) best = f.speedup, best_name = f.example;
       if (f.speedup < worst) worst = f.speedup, worst_name = f.example;
       all_identical = all_identical && f.free;
@@ -136,9 +130,9 @@ StudyResult RunScalingStudy(const Context& context) {
        << "-core machine; the results were "
        << (all_identical ? "bit-for-bit identical in every case"
                          : "**not** identical in every case (see the table)")
-       << ". The derivative share is the part of a 1-thread iteration spent in finite "
-          "differences, the bulk of the parallel work (the cost and the Hessian rows are "
-          "parallel too; the factorization and the multipliers are not).";
+       << ". The derivative share is the part of a 1-thread iteration spent computing the "
+          "derivatives (analytic, the default), the bulk of the parallel work (the cost and the "
+          "Hessian rows are parallel too; the factorization and the multipliers are not).";
     if (best < 1.2 && load >= machine.cores - 0.5) {
       md << " The 1-minute load average was " << load_at_start << " when this study started, "
          << "on " << machine.cores
@@ -148,8 +142,120 @@ StudyResult RunScalingStudy(const Context& context) {
     }
     md << "\n\n";
   }
+  return md.str();
+}
 
-  // ---- Horizon.
+/// Time per iteration against N on one example (one column per method and thread count).
+struct Series {
+  std::string label;
+  int example{0};
+  std::vector<int> n;
+  std::vector<double> ms;
+};
+
+constexpr int kMaxMultipliers = 1000;  // skip Lagrange beyond N n_u multipliers (dense, slow)
+
+/// One example of the horizon study: its table, fitted exponents, note and series.
+std::string HorizonExample(const Context& context, const std::string& name,
+                           const std::string& horizon_text, int example,
+                           const std::vector<int>& horizons, int horizon_iterations,
+                           int horizon_repeats, std::vector<Series>* series, StudyResult* result) {
+  std::ostringstream md;
+  Table table({"N", "penalty, 1 thread", "penalty, 2 threads", "Lagrange, 2 threads"});
+  Series p1{name + ", penalty, 1 thread", example, {}, {}};
+  Series p2{name + ", penalty, 2 threads", example, {}, {}};
+  Series lm{name + ", Lagrange, 2 threads", example, {}, {}};
+  int nu = 0;
+  for (int n : horizons) {
+    std::vector<std::pair<std::string, std::string>> edits{
+        {horizon_text, "num_steps: " + std::to_string(n)}};
+    // hopper.yaml's mpc.problem gives its own horizon, which cannot stand beside the
+    // num_steps it would inherit; the controller's problem is not used here.
+    if (name == "hopper") edits.emplace_back("horizon: 1.0", "num_steps: 100");
+    const ExampleConfig config = LoadEditedExample(context, name, edits);
+    nu = static_cast<int>(config.problem.UnactuatedDofs(config.model).size());
+    SolverOptions options = config.solver;
+    options.max_iterations = horizon_iterations;
+    options.fixed_iterations = true;
+    options.constraint_method = ConstraintMethod::kPenalty;
+    options.num_threads = 1;
+    const Timing a = TimeIterations(config, config.problem, options, horizon_repeats);
+    options.num_threads = 2;
+    const Timing b = TimeIterations(config, config.problem, options, horizon_repeats);
+    std::string lm_cell = "skipped";
+    if (n * nu <= kMaxMultipliers) {
+      options.constraint_method = ConstraintMethod::kLagrangeMultipliers;
+      const Timing c = TimeIterations(config, config.problem, options, horizon_repeats);
+      lm_cell = Ms(c.iteration) + " (" + Ms(c.multipliers) + ")";
+      lm.n.push_back(n);
+      lm.ms.push_back(1e3 * c.iteration);
+    }
+    p1.n.push_back(n);
+    p1.ms.push_back(1e3 * a.iteration);
+    p2.n.push_back(n);
+    p2.ms.push_back(1e3 * b.iteration);
+    table.Row({std::to_string(n), Ms(a.iteration), Ms(b.iteration), lm_cell});
+  }
+  md << "*" << name << "* (n_u = " << nu << "), ms per iteration:\n\n" << table.Markdown();
+  const int n_min = horizons.size() > 3 ? 40 : horizons.front();
+  md << "\nFitted time ∝ N^p over N ≥ " << n_min
+     << ": penalty p = " << Num(Exponent(p1.n, p1.ms, n_min), 2) << " (1 thread), "
+     << Num(Exponent(p2.n, p2.ms, n_min), 2) << " (2 threads)";
+  if (lm.n.size() >= 2) {
+    md << "; Lagrange p = " << Num(Exponent(lm.n, lm.ms, n_min), 2) << " (N ≤ " << lm.n.back()
+       << ")";
+  }
+  md << ".\n\n";
+  {
+    std::ostringstream note;
+    note << "Horizon (" << name << "): time per iteration grows as N^"
+         << Num(Exponent(p1.n, p1.ms, n_min), 2) << " with the penalty (1 thread)";
+    if (lm.n.size() >= 2) {
+      note << " and N^" << Num(Exponent(lm.n, lm.ms, n_min), 2)
+           << " with Lagrange multipliers (2 threads; at N = " << lm.n.back() << ": "
+           << Num(lm.ms.back(), 3) << " ms against " << Num(p2.ms[lm.n.size() - 1], 3)
+           << " ms with the penalty on 2 threads)";
+    }
+    note << ".";
+    result->notes.push_back(note.str());
+  }
+  series->push_back(p1);
+  series->push_back(p2);
+  if (!lm.n.empty()) series->push_back(lm);
+  return md.str();
+}
+
+/// Time per iteration vs horizon, every series in one log-log plot.
+std::string HorizonFigure(const Context& context, const std::vector<Series>& series,
+                          const std::vector<int>& horizons, int horizon_iterations) {
+  const std::string png = context.figure_dir + "/tradeoffs_scaling.png";
+  std::ostringstream gp;
+  gp << GnuplotHeader(png, 1000, 600) << "set title \"time per iteration vs horizon ("
+     << horizon_iterations << " iterations, median)\"\n"
+     << "set logscale xy\nset format y \"10^{%T}\"\nset xlabel \"N (time steps)\"\n"
+     << "set xrange [" << horizons.front() * 0.8 << ":" << horizons.back() * 1.25 << "]\n"
+     << "set ylabel \"ms per iteration\"\nset key outside right font \",9\"\nplot ";
+  for (size_t i = 0; i < series.size(); ++i) {
+    const std::string file = context.data_dir + "/scaling_" + std::to_string(i) + ".csv";
+    std::ofstream out(file);
+    for (size_t j = 0; j < series[i].n.size(); ++j) {
+      out << series[i].n[j] << ',' << series[i].ms[j] << '\n';
+    }
+    const bool lagrange = series[i].label.find("Lagrange") != std::string::npos;
+    const bool one = series[i].label.find("1 thread") != std::string::npos;
+    gp << (i ? ", " : "") << GnuplotQuote(file) << " using 1:2 with linespoints lw 2 pt "
+       << (lagrange ? 5 : 7) << " dt " << (one ? 2 : 1) << " lc " << 1 + series[i].example
+       << " title " << GnuplotQuote(series[i].label) << " noenhanced";
+  }
+  gp << "\n";
+  if (!RunGnuplot(context.data_dir, "scaling", gp.str())) return "";
+  return "![Time per iteration vs horizon](" + context.figure_link_prefix +
+         "tradeoffs_scaling.png)\n\n";
+}
+
+/// The horizon study: time per iteration against N, penalty and Lagrange multipliers.
+std::string HorizonSection(const Context& context, StudyResult* result) {
+  std::ostringstream md;
   const std::vector<int> horizons =
       context.quick ? std::vector<int>{10, 40, 160} : std::vector<int>{10, 20, 40, 80, 160, 320};
   const std::vector<std::pair<std::string, std::string>> horizon_examples =
@@ -160,113 +266,34 @@ StudyResult RunScalingStudy(const Context& context) {
                                                              {"quadruped", "horizon: 1.0"}};
   const int horizon_iterations = context.quick ? 3 : 10;
   const int horizon_repeats = context.quick ? 1 : 2;
-  constexpr int kMaxMultipliers = 1000;  // skip Lagrange beyond N n_u multipliers (dense, slow)
   md << "**Horizon.** The same examples with `num_steps` = N instead of their horizon (δt "
         "unchanged, so the plan covers N δt; the nominal is stretched over it), "
      << horizon_iterations << " iterations, median per iteration as above, smallest of "
      << horizon_repeats << ". Lagrange multipliers are skipped where N·n_u > " << kMaxMultipliers
      << " (the dense multiplier system would dominate the run time); their multiplier phase "
         "is in parentheses.\n\n";
-  struct Series {
-    std::string label;
-    int example{0};
-    std::vector<int> n;
-    std::vector<double> ms;
-  };
   std::vector<Series> series;
   for (size_t e = 0; e < horizon_examples.size(); ++e) {
-    const std::string& name = horizon_examples[e].first;
-    const std::string& horizon_text = horizon_examples[e].second;
-    Table table({"N", "penalty, 1 thread", "penalty, 2 threads", "Lagrange, 2 threads"});
-    const int example = static_cast<int>(e);
-    Series p1{name + ", penalty, 1 thread", example, {}, {}};
-    Series p2{name + ", penalty, 2 threads", example, {}, {}};
-    Series lm{name + ", Lagrange, 2 threads", example, {}, {}};
-    int nu = 0;
-    for (int n : horizons) {
-      const ExampleConfig config =
-          LoadEditedExample(context, name, horizon_text, "num_steps: " + std::to_string(n));
-      nu = static_cast<int>(config.problem.UnactuatedDofs(config.model).size());
-      SolverOptions options = config.solver;
-      options.max_iterations = horizon_iterations;
-      options.fixed_iterations = true;
-      options.constraint_method = ConstraintMethod::kPenalty;
-      options.num_threads = 1;
-      const Timing a = TimeIterations(config, config.problem, options, horizon_repeats);
-      options.num_threads = 2;
-      const Timing b = TimeIterations(config, config.problem, options, horizon_repeats);
-      std::string lm_cell = "skipped";
-      if (n * nu <= kMaxMultipliers) {
-        options.constraint_method = ConstraintMethod::kLagrangeMultipliers;
-        const Timing c = TimeIterations(config, config.problem, options, horizon_repeats);
-        lm_cell = Ms(c.iteration) + " (" + Ms(c.multipliers) + ")";
-        lm.n.push_back(n);
-        lm.ms.push_back(1e3 * c.iteration);
-      }
-      p1.n.push_back(n);
-      p1.ms.push_back(1e3 * a.iteration);
-      p2.n.push_back(n);
-      p2.ms.push_back(1e3 * b.iteration);
-      table.Row({std::to_string(n), Ms(a.iteration), Ms(b.iteration), lm_cell});
-    }
-    md << "*" << name << "* (n_u = " << nu << "), ms per iteration:\n\n" << table.Markdown();
-    const int n_min = horizons.size() > 3 ? 40 : horizons.front();
-    md << "\nFitted time ∝ N^p over N ≥ " << n_min
-       << ": penalty p = " << Num(Exponent(p1.n, p1.ms, n_min), 2) << " (1 thread), "
-       << Num(Exponent(p2.n, p2.ms, n_min), 2) << " (2 threads)";
-    if (lm.n.size() >= 2) {
-      md << "; Lagrange p = " << Num(Exponent(lm.n, lm.ms, n_min), 2) << " (N ≤ " << lm.n.back()
-         << ")";
-    }
-    md << ".\n\n";
-    {
-      std::ostringstream note;
-      note << "Horizon (" << name << "): time per iteration grows as N^"
-           << Num(Exponent(p1.n, p1.ms, n_min), 2) << " with the penalty (1 thread)";
-      if (lm.n.size() >= 2) {
-        note << " and N^" << Num(Exponent(lm.n, lm.ms, n_min), 2)
-             << " with Lagrange multipliers (2 threads; at N = " << lm.n.back() << ": "
-             << Num(lm.ms.back(), 3) << " ms against " << Num(p2.ms[lm.n.size() - 1], 3)
-             << " ms with the penalty on 2 threads)";
-      }
-      note << ".";
-      result.notes.push_back(note.str());
-    }
-    series.push_back(p1);
-    series.push_back(p2);
-    if (!lm.n.empty()) series.push_back(lm);
+    md << HorizonExample(context, horizon_examples[e].first, horizon_examples[e].second,
+                         static_cast<int>(e), horizons, horizon_iterations, horizon_repeats,
+                         &series, result);
   }
   md << "The penalty method's iteration is linear in N in theory (a block-pentadiagonal Hessian, "
         "O(N nq³)); the multipliers need a dense (N·n_u)² factorization, cubic in N, which is the "
         "paper's Fig. 6. The fitted exponents above are what this machine measured.\n\n";
 
-  if (context.gnuplot) {
-    const std::string png = context.figure_dir + "/tradeoffs_scaling.png";
-    std::ostringstream gp;
-    gp << GnuplotHeader(png, 1000, 600) << "set title \"time per iteration vs horizon ("
-       << horizon_iterations << " iterations, median)\"\n"
-       << "set logscale xy\nset format y \"10^{%T}\"\nset xlabel \"N (time steps)\"\n"
-       << "set xrange [" << horizons.front() * 0.8 << ":" << horizons.back() * 1.25 << "]\n"
-       << "set ylabel \"ms per iteration\"\nset key outside right font \",9\"\nplot ";
-    for (size_t i = 0; i < series.size(); ++i) {
-      const std::string file = context.data_dir + "/scaling_" + std::to_string(i) + ".csv";
-      std::ofstream out(file);
-      for (size_t j = 0; j < series[i].n.size(); ++j) {
-        out << series[i].n[j] << ',' << series[i].ms[j] << '\n';
-      }
-      const bool lagrange = series[i].label.find("Lagrange") != std::string::npos;
-      const bool one = series[i].label.find("1 thread") != std::string::npos;
-      gp << (i ? ", " : "") << GnuplotQuote(file) << " using 1:2 with linespoints lw 2 pt "
-         << (lagrange ? 5 : 7) << " dt " << (one ? 2 : 1) << " lc " << 1 + series[i].example
-         << " title " << GnuplotQuote(series[i].label) << " noenhanced";
-    }
-    gp << "\n";
-    if (RunGnuplot(context.data_dir, "scaling", gp.str())) {
-      md << "![Time per iteration vs horizon](" << context.figure_link_prefix
-         << "tradeoffs_scaling.png)\n\n";
-    }
-  }
-  result.markdown = md.str();
+  if (context.gnuplot) md << HorizonFigure(context, series, horizons, horizon_iterations);
+  return md.str();
+}
+
+}  // namespace
+
+StudyResult RunScalingStudy(const Context& context) {
+  StudyResult result;
+  result.id = "scaling";
+  result.title = "Threads and horizon";
+  result.markdown = ThreadsSection(context, &result);
+  result.markdown += HorizonSection(context, &result);
   return result;
 }
 

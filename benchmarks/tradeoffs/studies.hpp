@@ -25,7 +25,8 @@ struct StudyResult {
 StudyResult RunSensitivityStudy(const Context& context);
 /// Smoothing sigma: force at a distance, convergence, task and phantom contact impulse.
 StudyResult RunSmoothingStudy(const Context& context);
-/// Forward vs central differences: gradient error, convergence, time per iteration.
+/// Analytic derivatives vs forward and central differences: gradient error, convergence, time
+/// per iteration.
 StudyResult RunDerivativeStudy(const Context& context);
 /// Penalty weights vs Lagrange multipliers: time, violation, cost, task.
 StudyResult RunConstraintStudy(const Context& context);
