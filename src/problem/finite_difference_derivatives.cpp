@@ -19,15 +19,13 @@ namespace {
 class FiniteDifferenceEvaluator final : public TauDerivativeEvaluator {
  public:
   FiniteDifferenceEvaluator(bool central, double relative_step)
-      : central_(central),
-        relative_step_(relative_step > 0.0 ? relative_step
-                       : central           ? std::cbrt(std::numeric_limits<double>::epsilon())
-                                           : std::sqrt(std::numeric_limits<double>::epsilon())) {}
+      : central_(central), requested_step_(relative_step) {}
 
   void Calc(const TrajectoryState& s, Transcription* t, TrajectoryDerivatives* d) const override {
+    const double step = RelativeStep(t->engine() != nullptr);
     ParallelFor(1, t->num_steps() + 1, t->num_threads(), [&](int k, int thread) {
       TranscriptionWorkspace& ws = t->workspace(thread);
-      DifferenceStep(s, k, t, &ws, d);
+      DifferenceStep(s, k, step, t, &ws, d);
       // d tau_{k+1} / d q_k = -M(q_{k+2}) (d v_{k+1} / d q_k) / dt.
       if (k + 1 <= t->num_steps() - 1) {
         d->M[k + 2] = MassMatrix(t->model(), s.q[k + 2], &ws.data);
@@ -59,13 +57,13 @@ class FiniteDifferenceEvaluator final : public TauDerivativeEvaluator {
   }
 
   // Columns of d tau_{k-1} / d q_k and d tau_k / d q_k.
-  void DifferenceStep(const TrajectoryState& s, int k, Transcription* t, TranscriptionWorkspace* ws,
-                      TrajectoryDerivatives* d) const {
+  void DifferenceStep(const TrajectoryState& s, int k, double relative_step, Transcription* t,
+                      TranscriptionWorkspace* ws, TrajectoryDerivatives* d) const {
     const int N = t->num_steps();
     ws->q = s.q[k];
     for (int i = 0; i < t->nq(); ++i) {
       const double qi = s.q[k](i);
-      const double h = relative_step_ * std::max(1.0, std::abs(qi));
+      const double h = relative_step * std::max(1.0, std::abs(qi));
       // Divide by the step actually applied: q_i +- h rounded to a double.
       const double q_plus = qi + h;
       if (central_) {
@@ -88,8 +86,20 @@ class FiniteDifferenceEvaluator final : public TauDerivativeEvaluator {
     }
   }
 
+  // The relative step: the requested one, else sqrt(eps) for forward differences, and for
+  // central differences sqrt(eps) with contact and cbrt(eps) without. With contact, friction
+  // inside its stiction band and the dissipation's branch points make cbrt(eps) ~ 6e-6
+  // truncation-limited; sqrt(eps) measured more accurate at 8 of 15 points of the trade-off
+  // report and worse at none (docs/tradeoffs.md §3). Without contact cbrt(eps) is the better
+  // central step (the pendulum: 5.7e-10 against 2e-8 at 1e-7, docs/solver.md).
+  double RelativeStep(bool contact) const {
+    if (requested_step_ > 0.0) return requested_step_;
+    const double eps = std::numeric_limits<double>::epsilon();
+    return central_ && !contact ? std::cbrt(eps) : std::sqrt(eps);
+  }
+
   bool central_;
-  double relative_step_;
+  double requested_step_;
 };
 
 }  // namespace

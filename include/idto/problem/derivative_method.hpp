@@ -8,9 +8,10 @@ namespace idto {
 /// The derivative method of d tau / d q (TauDerivativeEvaluator).
 enum class DerivativeMethod {
   kForwardDifferences,  ///< one perturbed evaluation per coordinate, step sqrt(eps) relative
-  kCentralDifferences,  ///< two per coordinate, step cbrt(eps) relative
+  kCentralDifferences,  ///< two per coordinate, step sqrt(eps) relative with contact, else
+                        ///< cbrt(eps)
   /// Exact: analytic RNEA derivatives plus the analytic derivative of every contact pair's
-  /// forces (docs/derivatives.md), one evaluation per time step.
+  /// forces (docs/solver.md, "Derivatives"), one evaluation per time step.
   kAnalytic
 };
 

@@ -41,8 +41,8 @@ class TauDerivativeEvaluator {
 };
 
 /// Finite differences of tau_k with respect to q_s (forward or central), reusing the contact
-/// pairs a perturbation does not move; relative_step 0 picks sqrt(eps) (forward) or cbrt(eps)
-/// (central).
+/// pairs a perturbation does not move; relative_step 0 picks sqrt(eps) (forward, and central
+/// with contact) or cbrt(eps) (central without contact).
 std::unique_ptr<TauDerivativeEvaluator> MakeFiniteDifferenceEvaluator(DerivativeMethod method,
                                                                       double relative_step);
 

@@ -39,7 +39,9 @@ struct SolverOptions {
   double penalty_weight{0.0};
   /// d tau / d q: exact (kAnalytic, the default) or by forward / central differences.
   DerivativeMethod derivative_method{DerivativeMethod::kAnalytic};
-  double finite_difference_step{0.0};  ///< relative step; 0: sqrt(eps) (forward) or cbrt(eps)
+  /// Relative step of finite differences; 0: sqrt(eps) (forward; central with contact) or
+  /// cbrt(eps) (central without contact).
+  double finite_difference_step{0.0};
   ScalingMethod scaling{ScalingMethod::kDoubleSqrt};
 
   double initial_trust_radius{1e-1};  ///< in scaled coordinates
