@@ -31,10 +31,12 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "idto/config/config.hpp"
 #include "idto/config/mpc_config.hpp"
+#include "idto/core/csv.hpp"
 #include "idto/idto.hpp"
 #include "idto/mpc/closed_loop.hpp"
 #include "idto/sim/plant.hpp"
@@ -43,6 +45,7 @@
 #include "idto_build_paths.hpp"
 #include "run/metrics.hpp"
 #include "run/metrics_closed_loop.hpp"
+#include "run/outputs.hpp"
 
 namespace {
 
@@ -492,41 +495,15 @@ std::string MakeSummaryJson(const ExampleConfig& config, const std::string& conf
 
 // ---------------------------------------------------------------------------- CSV
 
-/// Labels of the coordinates of q ("pos") or v ("vel"): the joint name for 1-DoF joints,
-/// joint.qw, joint.x, ... for floating joints and joint.x, joint.y, joint.theta for planar ones.
-std::vector<std::string> CoordinateLabels(const idto::Model& model, bool positions) {
-  std::vector<std::string> labels;
-  for (idto::JointIndex j = 1; j <= model.num_joints(); ++j) {
-    const int n = positions ? model.joint_nq(j) : model.joint_nv(j);
-    if (n == 0) continue;
-    const std::string& name = model.joint_name(j);
-    if (n == 1) {
-      labels.push_back(name);
-      continue;
-    }
-    std::vector<std::string> parts;
-    if (model.joint_type(j) == idto::JointType::kFloating) {
-      parts = positions ? std::vector<std::string>{"qw", "qx", "qy", "qz", "x", "y", "z"}
-                        : std::vector<std::string>{"wx", "wy", "wz", "vx", "vy", "vz"};
-    } else if (model.joint_type(j) == idto::JointType::kPlanar) {
-      parts = {"x", "y", "theta"};
-    }
-    for (int i = 0; i < n; ++i) {
-      labels.push_back(name + "." +
-                       (i < static_cast<int>(parts.size()) ? parts[i] : std::to_string(i)));
-    }
-  }
-  return labels;
-}
-
 std::string MakeTrajectoryCsv(const ExampleConfig& config, const Trajectory& solution) {
   const idto::Model& model = config.model;
   std::ostringstream out;
   out << "t";
-  for (const std::string& label : CoordinateLabels(model, true)) out << ",q:" << label;
-  const std::vector<std::string> velocity_labels = CoordinateLabels(model, false);
-  for (const std::string& label : velocity_labels) out << ",v:" << label;
-  for (const std::string& label : velocity_labels) out << ",tau:" << label;
+  for (const std::string& label : idto::examples::CoordinateLabels(model, true))
+    out << ',' << idto::CsvField("q:" + label);
+  const std::vector<std::string> velocity_labels = idto::examples::CoordinateLabels(model, false);
+  for (const std::string& label : velocity_labels) out << ',' << idto::CsvField("v:" + label);
+  for (const std::string& label : velocity_labels) out << ',' << idto::CsvField("tau:" + label);
   out << "\n";
   const auto write = [&out](double x) { out << ',' << JsonWriter::FormatNumber(x); };
   for (std::size_t k = 0; k < solution.q.size(); ++k) {
@@ -587,6 +564,14 @@ void WriteHtml(const Arguments& args, const ExampleConfig& config,
   std::cout << "wrote " << args.html << "\n";
 }
 
+/// The output files of the command line, with their flags.
+std::vector<std::pair<std::string, std::string>> OutputFiles(const Arguments& args) {
+  return {{"--summary-json", args.summary_json},
+          {"--trajectory-csv", args.trajectory_csv},
+          {"--stats-csv", args.stats_csv},
+          {"--html", args.html}};
+}
+
 int Run(const Arguments& args, const char* argv0) {
   std::vector<std::string> share_dirs =
       idto::DefaultShareDirs(IDTO_SOURCE_SHARE_DIR, ExecutablePath(argv0));
@@ -605,7 +590,9 @@ int Run(const Arguments& args, const char* argv0) {
     throw idto::InvalidArgument("idto-run: invalid solver options: " + why);
   }
 
-  // Fail before solving when an output file cannot be written.
+  // Fail before solving when an output file cannot be written, or would overwrite an input or
+  // another output.
+  idto::examples::CheckOutputPaths(OutputFiles(args), config_path, config);
   for (const std::string& file : {args.summary_json, args.trajectory_csv, args.stats_csv}) {
     if (!file.empty()) WriteFile(file, "", "output file");
   }
@@ -686,6 +673,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
   if (args.constraints) options.constraint_method = *args.constraints;
   if (args.derivatives) options.derivative_method = *args.derivatives;
   options.verbosity = 0;
+  idto::examples::CheckOutputPaths(OutputFiles(args), config_path, config);
   for (const std::string& file : {args.summary_json, args.trajectory_csv, args.stats_csv}) {
     if (!file.empty()) WriteFile(file, "", "output file");
   }

@@ -1,5 +1,9 @@
 #include "idto/mpc/closed_loop.hpp"
 
+#include <string>
+
+#include "idto/core/csv.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -42,10 +46,14 @@ std::string ClosedLoopLog::ToCsv(const Model& model) const {
   std::ostringstream out;
   out.precision(10);
   out << "t";
-  for (int i = 0; i < model.nq(); ++i) out << ",q_" << model.position_name(i) << "_" << i;
-  for (int i = 0; i < model.nv(); ++i) out << ",v_" << model.velocity_name(i) << "_" << i;
-  for (int i = 0; i < model.nv(); ++i) out << ",u_" << model.velocity_name(i) << "_" << i;
-  for (int b = 0; b < model.num_bodies(); ++b) out << ",contact_" << model.body_name(b);
+  const auto field = [&out](const std::string& name) { out << ',' << CsvField(name); };
+  for (int i = 0; i < model.nq(); ++i)
+    field("q_" + model.position_name(i) + "_" + std::to_string(i));
+  for (int i = 0; i < model.nv(); ++i)
+    field("v_" + model.velocity_name(i) + "_" + std::to_string(i));
+  for (int i = 0; i < model.nv(); ++i)
+    field("u_" + model.velocity_name(i) + "_" + std::to_string(i));
+  for (int b = 0; b < model.num_bodies(); ++b) field("contact_" + model.body_name(b));
   out << "\n";
   for (size_t k = 0; k < t.size(); ++k) {
     out << t[k];
