@@ -1,5 +1,8 @@
 #include "idto/multibody/model.hpp"
 
+#include <atomic>
+#include <cstdint>
+
 #include <algorithm>
 #include <string>
 
@@ -22,6 +25,8 @@ int LookUp(const Map& map, const std::string& name, const char* where, const cha
 }  // namespace
 
 Model::Model() {
+  static std::atomic<std::uint64_t> next_tag{1};
+  tag_ = next_tag.fetch_add(1, std::memory_order_relaxed);
   body_name_ = {"world"};
   parent_ = {-1};
   mobilized_ = {0};

@@ -34,6 +34,7 @@ DataTpl<Scalar>::DataTpl(const Model& model)
       dV_dq_(Eigen::Matrix<Scalar, 6, Eigen::Dynamic>::Zero(6, model.nv())),
       dA_dq_(Eigen::Matrix<Scalar, 6, Eigen::Dynamic>::Zero(6, model.nv())),
       dA_dv_(Eigen::Matrix<Scalar, 6, Eigen::Dynamic>::Zero(6, model.nv())) {
+  model_tag_ = model.tag();
   // Eigen's LLT(size) leaves its status uninitialized until compute(); copying or moving a Data
   // would read it. Factor the identity once so every member is defined.
   llt_.compute(MatrixX<Scalar>::Identity(model.nv(), model.nv()));

@@ -5,12 +5,15 @@
 /// type of the kernels: `Data` is `DataTpl<double>` (compiled once in src/multibody/data.cpp);
 /// tests instantiate DataTpl with an automatic-differentiation scalar (include data-inl.hpp).
 
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "idto/core/errors.hpp"
 #include "idto/core/types.hpp"
 #include "idto/math/scalar.hpp"
 #include "idto/math/spatial.hpp"
@@ -48,6 +51,9 @@ class DataTpl {
   using Isometry3 = Eigen::Transform<Scalar, 3, Eigen::Isometry>;
 
   explicit DataTpl(const Model& model);
+
+  /// The tag of the model this Data was made for (Model::tag()).
+  std::uint64_t model_tag() const { return model_tag_; }
 
   /// Pose of body b in the world (after ForwardKinematics), any body including welded ones.
   Isometry3 X_WB(BodyIndex b) const;
@@ -113,7 +119,29 @@ class DataTpl {
   Eigen::Matrix<Scalar, 6, Eigen::Dynamic> dV_dq_;
   Eigen::Matrix<Scalar, 6, Eigen::Dynamic> dA_dq_;
   Eigen::Matrix<Scalar, 6, Eigen::Dynamic> dA_dv_;
+
+ private:
+  std::uint64_t model_tag_{0};
 };
+
+namespace internal {
+
+/// Throws InvalidArgument naming `where` unless `data` is not null and was made for `model` or a
+/// copy of it (its buffers are sized for that model; another model's would be overrun).
+template <typename Scalar>
+inline void CheckData(const Model& model, const char* where, const DataTpl<Scalar>* data) {
+  if (data == nullptr) {
+    ThrowInvalidArgument(where, "data", "null", "a Data made for this model: DataTpl(model)");
+  }
+  if (data->model_tag() != model.tag()) {
+    ThrowInvalidArgument(where, "data",
+                         "made for another model (model tag " + std::to_string(data->model_tag()) +
+                             ", this one's " + std::to_string(model.tag()) + ")",
+                         "a Data made for this model or a copy of it: DataTpl(model)");
+  }
+}
+
+}  // namespace internal
 
 using Data = DataTpl<double>;
 

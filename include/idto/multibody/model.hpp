@@ -3,6 +3,7 @@
 /// @file
 /// The immutable multibody Model (design.md §4).
 
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <unordered_map>
@@ -41,6 +42,10 @@ class Model {
  public:
   /// An empty model (only the world); use ModelBuilder to make a real one.
   Model();
+
+  /// A tag shared by this Model and its copies and distinct for every Model constructed: a Data
+  /// records the tag of the model it was made for, and the algorithms check it.
+  std::uint64_t tag() const { return tag_; }
 
   /// Number of generalized positions.
   int nq() const { return nq_; }
@@ -173,6 +178,7 @@ class Model {
   std::vector<std::string> body_name_;
   std::vector<BodyIndex> parent_;
   std::vector<BodyIndex> mobilized_;
+  std::uint64_t tag_{0};
   std::vector<RigidTransform> X_MB_;
   std::vector<BodyInertia> body_inertia_;
   std::vector<SpatialInertia> inertia_;

@@ -54,6 +54,7 @@ const Eigen::VectorXd& ForwardDynamics(const Model& model,
                                        const Eigen::Ref<const Eigen::VectorXd>& q,
                                        const Eigen::Ref<const Eigen::VectorXd>& v,
                                        const Eigen::Ref<const Eigen::VectorXd>& tau, Data* data) {
+  internal::CheckData(model, "ForwardDynamics", data);
   model.CheckConfiguration("ForwardDynamics", "q", q);
   model.CheckVelocity("ForwardDynamics", "v", v);
   model.CheckVelocity("ForwardDynamics", "tau", tau);
@@ -72,6 +73,10 @@ const Eigen::VectorXd& ForwardDynamics(const Model& model,
 
 void GeneralizedForceFromBodyForces(const Model& model, const BodyForces& F, Data* data,
                                     Eigen::VectorXd* tau) {
+  internal::CheckData(model, "GeneralizedForceFromBodyForces", data);
+  if (tau == nullptr) {
+    ThrowInvalidArgument("GeneralizedForceFromBodyForces", "tau", "null", "an output vector");
+  }
   if (F.cols() != model.num_bodies()) {
     CheckSize("GeneralizedForceFromBodyForces", "F.cols()", F.cols(), model.num_bodies(),
               "model.num_bodies()");

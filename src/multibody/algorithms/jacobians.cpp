@@ -32,6 +32,7 @@ void ForEachSupportingDof(const Model& model, const Data& data, BodyIndex b, con
 
 void CalcPointJacobian(const Model& model, const Data& data, BodyIndex b,
                        const Eigen::Vector3d& p_BC, Eigen::Matrix3Xd* J) {
+  internal::CheckData(model, "CalcPointJacobian", &data);
   CheckBody(model, "CalcPointJacobian", b);
   J->setZero(3, model.nv());
   const Eigen::Vector3d p_WC = data.X_WB_[b] * p_BC;
@@ -43,6 +44,7 @@ void CalcPointJacobian(const Model& model, const Data& data, BodyIndex b,
 
 void CalcFrameJacobian(const Model& model, const Data& data, BodyIndex b,
                        const Eigen::Isometry3d& X_BF, Eigen::Matrix<double, 6, Eigen::Dynamic>* J) {
+  internal::CheckData(model, "CalcFrameJacobian", &data);
   CheckBody(model, "CalcFrameJacobian", b);
   J->setZero(6, model.nv());
   const Eigen::Vector3d p_WF = data.X_WB_[b] * Eigen::Vector3d(X_BF.translation());

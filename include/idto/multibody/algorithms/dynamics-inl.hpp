@@ -141,6 +141,7 @@ const VectorX<Scalar>& InverseDynamics(const Model& model, const ConstVectorRef<
                                        const ConstVectorRef<Scalar>& a,
                                        const NonDeduced<BodyForcesTpl<Scalar>>* F_ext,
                                        DataTpl<Scalar>* data) {
+  internal::CheckData(model, "InverseDynamics", data);
   internal::CheckNq(model, "InverseDynamics", "q", q.size());
   internal::CheckNv(model, "InverseDynamics", "v", v.size());
   internal::CheckNv(model, "InverseDynamics", "a", a.size());
@@ -153,6 +154,7 @@ template <typename Scalar>
 const VectorX<Scalar>& InverseDynamicsAfterKinematics(
     const Model& model, const ConstVectorRef<Scalar>& v, const ConstVectorRef<Scalar>& a,
     const NonDeduced<BodyForcesTpl<Scalar>>* F_ext, DataTpl<Scalar>* data) {
+  internal::CheckData(model, "InverseDynamicsAfterKinematics", data);
   internal::CheckNv(model, "InverseDynamicsAfterKinematics", "v", v.size());
   internal::CheckNv(model, "InverseDynamicsAfterKinematics", "a", a.size());
   if (F_ext != nullptr && F_ext->cols() != model.num_bodies()) {
@@ -167,6 +169,7 @@ const VectorX<Scalar>& InverseDynamicsAfterKinematics(
 template <typename Scalar>
 const VectorX<Scalar>& BiasTerm(const Model& model, const ConstVectorRef<Scalar>& q,
                                 const ConstVectorRef<Scalar>& v, DataTpl<Scalar>* data) {
+  internal::CheckData(model, "BiasTerm", data);
   internal::CheckNq(model, "BiasTerm", "q", q.size());
   internal::CheckNv(model, "BiasTerm", "v", v.size());
   internal::Rnea<Scalar>(model, q.data(), v.data(), nullptr, nullptr, data);
@@ -176,6 +179,7 @@ const VectorX<Scalar>& BiasTerm(const Model& model, const ConstVectorRef<Scalar>
 template <typename Scalar>
 const MatrixX<Scalar>& MassMatrix(const Model& model, const ConstVectorRef<Scalar>& q,
                                   DataTpl<Scalar>* data) {
+  internal::CheckData(model, "MassMatrix", data);
   internal::CheckNq(model, "MassMatrix", "q", q.size());
   // Entries between bodies on different branches are zero and never written.
   data->M.setZero();

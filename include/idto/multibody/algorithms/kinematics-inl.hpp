@@ -56,6 +56,7 @@ void Kinematics(const Model& model, const Scalar* q, const Scalar* v, DataTpl<Sc
 
 template <typename Scalar>
 void ForwardKinematics(const Model& model, const ConstVectorRef<Scalar>& q, DataTpl<Scalar>* data) {
+  internal::CheckData(model, "ForwardKinematics", data);
   internal::CheckNq(model, "ForwardKinematics", "q", q.size());
   internal::Kinematics<Scalar>(model, q.data(), nullptr, data);
 }
@@ -63,6 +64,7 @@ void ForwardKinematics(const Model& model, const ConstVectorRef<Scalar>& q, Data
 template <typename Scalar>
 void ForwardKinematics(const Model& model, const ConstVectorRef<Scalar>& q,
                        const ConstVectorRef<Scalar>& v, DataTpl<Scalar>* data) {
+  internal::CheckData(model, "ForwardKinematics", data);
   internal::CheckNq(model, "ForwardKinematics", "q", q.size());
   internal::CheckNv(model, "ForwardKinematics", "v", v.size());
   internal::Kinematics<Scalar>(model, q.data(), v.data(), data);

@@ -314,6 +314,7 @@ void ComputeRneaDerivativesTangent(const Model& model, const ConstVectorRef<Scal
                                    const ConstVectorRef<Scalar>& v, const ConstVectorRef<Scalar>& a,
                                    const NonDeduced<BodyForcesTpl<Scalar>>* F_ext,
                                    DataTpl<Scalar>* data) {
+  CheckData(model, "ComputeRneaDerivatives", data);
   CheckNq(model, "ComputeRneaDerivatives", "q", q.size());
   CheckNv(model, "ComputeRneaDerivatives", "v", v.size());
   CheckNv(model, "ComputeRneaDerivatives", "a", a.size());
