@@ -57,7 +57,24 @@ void BindContact(py::module_& m) {
       .def_readwrite("force_tolerance", &ContactOptions::force_tolerance);
 }
 
+void BindLimits(py::module_& m) {
+  static constexpr const char* kWhere = "LimitPenalties";
+  py::class_<LimitPenalties> c(m, "LimitPenalties",
+                               "Joint limits as penalties (weights 0: off; empty bounds: the "
+                               "model's URDF limits).");
+  c.def(py::init<>())
+      .def_readwrite("position_weight", &LimitPenalties::position_weight)
+      .def_readwrite("velocity_weight", &LimitPenalties::velocity_weight)
+      .def_readwrite("effort_weight", &LimitPenalties::effort_weight)
+      .def("any", &LimitPenalties::any);
+  VectorProperty(c, "q_lower", &LimitPenalties::q_lower, kWhere, "nq, or empty");
+  VectorProperty(c, "q_upper", &LimitPenalties::q_upper, kWhere, "nq, or empty");
+  VectorProperty(c, "v_max", &LimitPenalties::v_max, kWhere, "nv, or empty");
+  VectorProperty(c, "tau_max", &LimitPenalties::tau_max, kWhere, "nv, or empty");
+}
+
 void BindProblemDefinition(py::module_& m) {
+  BindLimits(m);
   static constexpr const char* kWhere = "ProblemDefinition";
   py::class_<ProblemDefinition> c(m, "ProblemDefinition",
                                   "One trajectory optimization problem (paper section 4).");
@@ -77,6 +94,7 @@ void BindProblemDefinition(py::module_& m) {
                   "Velocity indices with zero generalized force (None: the base DoFs)")
       .def_readwrite("enable_contact", &ProblemDefinition::enable_contact)
       .def_readwrite("contact", &ProblemDefinition::contact)
+      .def_readwrite("limits", &ProblemDefinition::limits)
       .def("validate", &ProblemDefinition::Validate, py::arg("model"),
            "Raises ValueError naming the field unless the problem fits the model.")
       .def("get_unactuated_dofs", &ProblemDefinition::UnactuatedDofs, py::arg("model"),

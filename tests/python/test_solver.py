@@ -291,3 +291,22 @@ def test_overhead_benchmark_runs(capsys):
     opt.solve(ex.initial_guess())
     times = idto._testing.time_warm_start(opt, 2)
     assert len(times) == 2 and all(wall >= 0 and cpu >= 0 for wall, cpu in times)
+
+
+def test_limit_penalties_from_yaml_and_python():
+    config = idto.load_example("quadruped_limits")
+    limits = config.problem.limits
+    assert limits.any()
+    assert limits.position_weight == 1e4
+    assert len(limits.tau_max) == config.model.nv()
+    fresh = idto.LimitPenalties()
+    assert not fresh.any() and len(fresh.tau_max) == 0
+    fresh.effort_weight = 10.0
+    fresh.tau_max = np.full(config.model.nv(), 3.0)
+    problem = copy.copy(config.problem)
+    problem.limits = fresh
+    problem.validate(config.model)
+    fresh.tau_max = np.ones(2)
+    problem.limits = fresh
+    with pytest.raises(ValueError, match="limits.tau_max"):
+        problem.validate(config.model)
