@@ -2,6 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
+
+#include <unistd.h>
 #include <string>
 
 #include "idto/core/errors.hpp"
@@ -51,6 +54,25 @@ void CheckBounds(const std::string& name, const Eigen::VectorXd& x, int size, bo
   }
 }
 
+// The solver keeps per step about a dozen nv x nq blocks (velocity partials, the three d tau
+// blocks, mass matrix, Hessian and KKT blocks) and the trajectory: refuse horizons whose
+// working set exceeds the machine's memory, naming num_steps and the estimate.
+void CheckMemory(const Model& model, int num_steps) {
+  const double nq = model.nq(), nv = model.nv();
+  const double per_step = 8.0 * (12.0 * nv * nq + 4.0 * nq * nq + 20.0 * (nq + nv));
+  const double estimate = per_step * (num_steps + 1.0);
+  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+  const double physical =
+      pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : 64.0 * (1 << 30);
+  if (estimate > physical) {
+    std::ostringstream found, expected;
+    found << num_steps << " (about " << estimate / (1 << 30) << " GiB of solver memory)";
+    expected << "at most " << static_cast<long long>(physical / per_step) - 1
+             << " for this model on this machine (" << physical / (1 << 30) << " GiB)";
+    ThrowInvalidArgument(kWhere, "num_steps", found.str(), expected.str());
+  }
+}
+
 void ValidateLimits(const Model& model, const LimitPenalties& l) {
   CheckLimitWeight("position_weight", l.position_weight);
   CheckLimitWeight("velocity_weight", l.velocity_weight);
@@ -76,6 +98,7 @@ void ProblemDefinition::Validate(const Model& model) const {
   if (num_steps < 1) {
     ThrowInvalidArgument(kWhere, "num_steps", std::to_string(num_steps), "at least 1");
   }
+  CheckMemory(model, num_steps);
   const int nq = model.nq(), nv = model.nv();
   CheckVector("q_init", q_init, nq, "model.nq()");
   CheckVector("v_init", v_init, nv, "model.nv()");

@@ -1,5 +1,7 @@
 #include "idto/solver/solver_options.hpp"
 
+#include "idto/solver/solver_summary.hpp"
+
 #include <cmath>
 #include <sstream>
 
@@ -22,6 +24,11 @@ std::string ConstraintMethodName(ConstraintMethod method) {
   return "unknown";
 }
 
+namespace {
+// 4 GiB of iteration log.
+constexpr double kMaxLogBytes = 4.0 * (1 << 30);
+}  // namespace
+
 bool SolverOptions::IsValid(std::string* why) const {
   std::ostringstream out;
   auto fail = [&](const char* field, double value, const char* expected) {
@@ -30,6 +37,16 @@ bool SolverOptions::IsValid(std::string* why) const {
     return false;
   };
   if (max_iterations < 0) return fail("max_iterations", max_iterations, "a number >= 0");
+  // Every iteration adds an IterationSummary to SolverSummary::log: refuse counts whose log alone
+  // could not fit in memory (instead of a bare std::bad_alloc hours into a run).
+  if (static_cast<double>(max_iterations) * sizeof(IterationSummary) > kMaxLogBytes) {
+    out << "SolverOptions: max_iterations is " << max_iterations << "; expected at most "
+        << static_cast<long long>(kMaxLogBytes / sizeof(IterationSummary))
+        << " (the iteration log would need "
+        << static_cast<double>(max_iterations) * sizeof(IterationSummary) / (1 << 30) << " GiB)";
+    if (why != nullptr) *why = out.str();
+    return false;
+  }
   if (num_threads < 1 || num_threads > kMaxNumThreads) {
     return fail("num_threads", num_threads, "in [1, 256] (SolverOptions::kMaxNumThreads)");
   }

@@ -371,6 +371,10 @@ TEST(Solver, InvalidInputsThrowClearMessages) {
   bad = p;
   bad.num_steps = 0;
   throws(bad, "num_steps is 0");
+  // A horizon whose solver memory cannot fit: refused up front with the estimate.
+  bad = p;
+  bad.num_steps = 2000000000;
+  throws(bad, "num_steps is 2000000000 (about");
   bad = p;
   bad.Qv(0) = -1.0;
   throws(bad, "Qv(0) is -1; expected a non-negative number");
@@ -399,6 +403,12 @@ TEST(Solver, InvalidInputsThrowClearMessages) {
   o.initial_trust_radius = -1;
   EXPECT_FALSE(o.IsValid(&why));
   EXPECT_THAT(why, HasSubstr("initial_trust_radius is -1"));
+  // An iteration count whose log alone cannot fit: refused with the estimate.
+  o = SolverOptions{};
+  o.max_iterations = 1000000000;
+  EXPECT_FALSE(o.IsValid(&why));
+  EXPECT_THAT(why, HasSubstr("max_iterations is 1000000000; expected at most"));
+  EXPECT_THAT(why, HasSubstr("GiB"));
   TrajectoryOptimizer opt(model, p, SolverOptions{});
   Trajectory sol;
   EXPECT_THAT([&] { opt.Solve(std::vector<Eigen::VectorXd>(3, p.q_init), &sol); },
