@@ -590,8 +590,7 @@ int Run(const Arguments& args, const char* argv0) {
     throw idto::InvalidArgument("idto-run: invalid solver options: " + why);
   }
 
-  // Fail before solving when an output file cannot be written, or would overwrite an input or
-  // another output.
+  // Fail before solving on an output that cannot be written or would clobber another file.
   idto::examples::CheckOutputPaths(OutputFiles(args), config_path, config);
   for (const std::string& file : {args.summary_json, args.trajectory_csv, args.stats_csv}) {
     if (!file.empty()) WriteFile(file, "", "output file");
@@ -622,6 +621,8 @@ int Run(const Arguments& args, const char* argv0) {
   const std::vector<Eigen::VectorXd> guess = idto::MakeInitialGuess(config);
   Trajectory solution;
   const SolverSummary summary = optimizer.Solve(guess, &solution);
+  // Overflow at the guess: nothing to write (JSON has no inf); refuse, naming the key.
+  if (!std::isfinite(summary.initial_cost)) throw idto::InvalidArgument(summary.message);
   const idto::examples::TaskResult task = idto::examples::EvaluateTask(config, solution);
 
   std::cout << summary.BriefReport() << "\n";

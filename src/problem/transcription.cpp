@@ -247,6 +247,52 @@ double Transcription::LimitCost(const TrajectoryState& s, int k) const {
   return 0.5 * sum;
 }
 
+std::string Transcription::DescribeNonFiniteCost(const TrajectoryState& s) const {
+  for (int k = 0; k <= N_; ++k) {
+    if (!s.q[k].allFinite()) return "q_" + std::to_string(k) + " (the guess) is not finite";
+    if (!s.v[k].allFinite())
+      return "v_" + std::to_string(k) + " is not finite (time_step too small?)";
+    if (k < N_ && !s.tau[k].allFinite()) {
+      return "tau_" + std::to_string(k) + " (inverse dynamics with contact) is not finite";
+    }
+  }
+  // Each term of the cost on its own, in the order of the YAML keys.
+  const auto term = [&](const Eigen::VectorXd& w, auto value) {
+    double sum = 0.0;
+    for (int k = 0; k <= N_; ++k) sum += value(k, w);
+    return sum;
+  };
+  struct Term {
+    const char* key;
+    double value;
+  };
+  const auto sq = [](const Eigen::VectorXd& w, const Eigen::VectorXd& e) {
+    return w.dot(e.cwiseProduct(e));
+  };
+  const Term terms[] = {
+      {"problem.weights.Qq", term(problem_.Qq,
+                                  [&](int k, const Eigen::VectorXd& w) {
+                                    return k < N_ ? sq(w, s.q[k] - problem_.q_nom[k]) : 0.0;
+                                  })},
+      {"problem.weights.Qv", term(problem_.Qv,
+                                  [&](int k, const Eigen::VectorXd& w) {
+                                    return k < N_ ? sq(w, s.v[k] - problem_.v_nom[k]) : 0.0;
+                                  })},
+      {"problem.weights.R",
+       term(R_eff_,
+            [&](int k, const Eigen::VectorXd& w) { return k < N_ ? sq(w, s.tau[k]) : 0.0; })},
+      {"problem.weights.Qfq", sq(problem_.Qfq, s.q[N_] - problem_.q_nom[N_])},
+      {"problem.weights.Qfv", sq(problem_.Qfv, s.v[N_] - problem_.v_nom[N_])},
+  };
+  for (const Term& t : terms) {
+    if (!std::isfinite(0.5 * dt_ * t.value)) {
+      return std::string(t.key) + ": its term of the cost overflows (" + std::to_string(t.value) +
+             "); expected weights and states whose squares fit";
+    }
+  }
+  return "problem.limits: the limit penalties overflow";
+}
+
 double Transcription::ConstraintViolation(const TrajectoryState& s) const {
   double sum = 0.0;
   for (int k = 0; k < N_; ++k) {

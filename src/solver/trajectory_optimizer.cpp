@@ -307,7 +307,8 @@ class TrajectoryOptimizer::Impl {
     transcription_.TakeContactTicks();  // the initial evaluation belongs to no iteration
     summary.termination = TerminationType::kMaxIterations;
     if (!std::isfinite(summary.initial_cost)) {
-      Fail(&summary, "the cost of the initial guess is not finite");
+      Fail(&summary, "the cost of the initial guess is not finite: " +
+                         transcription_.DescribeNonFiniteCost(x_));
     }
     summary.log.reserve(options_.max_iterations);
     bool need_derivatives = true;

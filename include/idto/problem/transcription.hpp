@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -99,6 +100,9 @@ class Transcription {
   double Evaluate(TrajectoryState* state);
   /// L(q) of an evaluated state (fixed summation order).
   double Cost(const TrajectoryState& state) const;
+  /// For an evaluated state whose cost is not finite: which input is to blame (a non-finite q,
+  /// v or tau with its step, or the YAML key of the cost term that overflows).
+  std::string DescribeNonFiniteCost(const TrajectoryState& state) const;
   /// sum_k |tau_k(unactuated)|^2 of an evaluated state.
   double ConstraintViolation(const TrajectoryState& state) const;
   /// The velocity partials, then the evaluator's d tau / d q blocks.
