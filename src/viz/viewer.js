@@ -32,7 +32,7 @@
 
   // ---------------------------------------------------------------- renderer, camera, lights
   let view = document.getElementById('view');
-  let renderer = new THREE.WebGLRenderer({antialias: true, preserveDrawingBuffer: true});
+  let renderer = new THREE.WebGLRenderer({antialias: false, preserveDrawingBuffer: true});
   renderer.setPixelRatio(window.devicePixelRatio || 1);
   view.appendChild(renderer.domElement);
   let scene = new THREE.Scene();
@@ -61,7 +61,7 @@
     return geometry_cache[key];
   }
   function sphereGeometry(r) {
-    return cached('s' + r, function () { return new THREE.SphereBufferGeometry(r, 24, 16); });
+    return cached('s' + r, function () { return new THREE.SphereBufferGeometry(r, 16, 12); });
   }
   function cylinderGeometry(r, l) {
     return cached('c' + r + ',' + l, function () {
@@ -146,7 +146,7 @@
   let ghost_materials = {};
   function material(color) {
     if (!materials[color]) {
-      materials[color] = new THREE.MeshPhongMaterial({color: color, shininess: 30});
+      materials[color] = new THREE.MeshLambertMaterial({color: color});
     }
     return materials[color];
   }

@@ -159,9 +159,10 @@ TEST_F(BrowserTest, ScreenshotIsNotBlank) {
 
 // A 10 s run logged at 1 kHz with 20 bodies: subsampled to 601 frames. What a frame costs the
 // page itself (moving 20 bodies to a new time, contacts included) is well under a millisecond,
-// and a frame is a modest 129 draw calls and 35k triangles, which any GPU draws at well over
-// 30 frames per second. Rendering here is software WebGL (SwiftShader) on a shared 2-core CPU:
-// the time to issue and to draw a frame is printed, and checked only against a gross bound.
+// and a frame is 129 draw calls and 20k triangles. Rendering here is software WebGL (SwiftShader)
+// on a shared 2-core CPU; quiet, a frame is drawn in 25-29 ms (34-40 frames per second, figures
+// in docs/examples.md). A timed test would fail under the default suite's parallel load, so the
+// time to issue and to draw a frame is printed, and checked only against a gross bound.
 TEST_F(BrowserTest, TwentyBodiesTenSecondsAtOneKilohertzStaySmooth) {
   const Model model = test::ManyBodies(20);
   const test::fs::path page = work_ / "page.html";
@@ -178,7 +179,7 @@ TEST_F(BrowserTest, TwentyBodiesTenSecondsAtOneKilohertzStaySmooth) {
             << " triangles\n";
   EXPECT_LT(report["ms_per_update"].number, 2.0);
   EXPECT_LE(report["draw_calls"].number, 8 * 20 + 20);
-  EXPECT_LE(report["triangles"].number, 100000);
+  EXPECT_LE(report["triangles"].number, 25000);
   EXPECT_LT(report["ms_per_submit"].number, 200.0);
 }
 
