@@ -15,7 +15,8 @@
 // horizons: "solver/kkt/<size>/<route>/N:<N>", size acrobot (n = 4, nu = 2), ball_finger
 // (n = 9, nu = 3) or allegro (n = 23, nu = 6); route
 //   banded:   BandedKktSolver::Factor + Solve (λ and the Newton step p) + g_merit = g + Aᵀλ,
-//             with the default one step of iterative refinement (banded_unrefined: none);
+//             with the default one step of iterative refinement (banded_unrefined: none;
+//             banded_extended: its residual in long double);
 //   dense:    today's route: block Cholesky of H, Y = L⁻¹Aᵀ, A H⁻¹ Aᵀ = YᵀY dense and its LLT,
 //             λ, g_merit and p = −H⁻¹ g_merit (Aᵀ filled densely as CalcConstraints does);
 //             not run for allegro at N = 320 (about 10 s and 0.3 GB);
@@ -195,11 +196,13 @@ KktProblem RandomKktProblem(int N, int n, int nu) {
   return P;
 }
 
-void BM_KktBanded(benchmark::State& state, int n, int nu, int refinement_steps) {
+void BM_KktBanded(benchmark::State& state, int n, int nu, int refinement_steps,
+                  bool extended = false) {
   const int N = static_cast<int>(state.range(0));
   const KktProblem P = RandomKktProblem(N, n, nu);
   idto::BandedKktSolver kkt(N, n, nu);
   kkt.set_refinement_steps(refinement_steps);
+  kkt.set_extended_residual(extended);
   Eigen::VectorXd p(N * n), lambda(N * nu), g_merit(N * n);
   for (auto _ : state) {
     if (!kkt.Factor(P.H, P.A).ok()) {
@@ -280,11 +283,14 @@ void RegisterKkt() {
     auto* unrefined =
         benchmark::RegisterBenchmark((prefix + "banded_unrefined").c_str(),
                                      [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 0); });
+    auto* extended = benchmark::RegisterBenchmark(
+        (prefix + "banded_extended").c_str(),
+        [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, true); });
     auto* dense = benchmark::RegisterBenchmark(
         (prefix + "dense").c_str(), [n, nu](benchmark::State& s) { BM_KktDense(s, n, nu); });
     auto* chol = benchmark::RegisterBenchmark((prefix + "cholesky").c_str(),
                                               [n](benchmark::State& s) { BM_KktCholesky(s, n); });
-    for (auto* b : {banded, unrefined, dense, chol}) {
+    for (auto* b : {banded, unrefined, extended, dense, chol}) {
       b->ArgNames({"N"})->Unit(benchmark::kMicrosecond)->UseRealTime();
       for (int N : {10, 20, 40, 80, 160, 320}) {
         if (b == dense && n * N > 23 * 160) continue;

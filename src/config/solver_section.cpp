@@ -9,12 +9,14 @@ namespace idto::config_internal {
 
 namespace {
 
-const std::vector<std::string> kSolverKeys = {
-    "max_iterations",   "num_threads",          "constraint_method",
-    "penalty_weight",   "derivative_method",    "finite_difference_step",
-    "scaling",          "initial_trust_radius", "max_trust_radius",
-    "acceptance_ratio", "cost_tolerance",       "gradient_tolerance",
-    "step_tolerance",   "fixed_iterations",     "verbosity"};
+const std::vector<std::string> kSolverKeys = {"max_iterations",    "num_threads",
+                                              "constraint_method", "penalty_weight",
+                                              "derivative_method", "finite_difference_step",
+                                              "scaling",           "initial_trust_radius",
+                                              "max_trust_radius",  "acceptance_ratio",
+                                              "cost_tolerance",    "gradient_tolerance",
+                                              "step_tolerance",    "fixed_iterations",
+                                              "verbosity",         "kkt_extended_residual"};
 
 static_assert(static_cast<int>(ConstraintMethod::kNone) == 0 &&
                   static_cast<int>(ConstraintMethod::kPenalty) == 1 &&
@@ -54,6 +56,7 @@ void ConfigLoader::LoadSolver(const YAML::Node& node, const std::string& path) {
   o.gradient_tolerance = s.NonNegative("gradient_tolerance", o.gradient_tolerance);
   o.step_tolerance = s.NonNegative("step_tolerance", o.step_tolerance);
   o.fixed_iterations = s.Bool("fixed_iterations", o.fixed_iterations);
+  o.kkt_extended_residual = s.Bool("kkt_extended_residual", o.kkt_extended_residual);
   o.verbosity = s.Int("verbosity", o.verbosity, 0);
   std::string why;
   if (!o.IsValid(&why)) reader_.Fail(s.node(), s.path(), "invalid options: " + why);

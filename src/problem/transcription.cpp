@@ -335,18 +335,38 @@ void Transcription::CalcGradient(const TrajectoryState& s, const TrajectoryDeriv
 
 namespace {
 
-// out += X^T diag(w) Y, with scratch T (nv x nq): no temporaries.
-void AddWeightedProduct(const Eigen::MatrixXd& X, const Eigen::VectorXd& w,
-                        const Eigen::MatrixXd& Y, Eigen::MatrixXd* T, Eigen::MatrixXd* out) {
-  T->noalias() = w.asDiagonal() * Y;
-  out->noalias() += X.transpose() * (*T);
+// The lower triangle of *out += D1^T diag(w) D2 for D1, D2 velocity partials (d v_k / d q_k or
+// d v_k / d q_{k-1}): both are block diagonal by joint (v_j depends on joint j's coordinates
+// only), so the product is too: sum_j nq_j^2 nv_j flops instead of nq^2 nv. With D1 != D2 (the
+// sub-diagonal block B) the whole joint block is formed.
+void AddVelocityGram(const Model& model, const Eigen::MatrixXd& D1, const Eigen::VectorXd& w,
+                     const Eigen::MatrixXd& D2, bool lower_only, Eigen::MatrixXd* out) {
+  for (BodyIndex b : model.moving_bodies()) {
+    const int iv = model.velocity_start(b), iq = model.position_start(b);
+    const int nv = model.joint_nv(b), nq = model.joint_nq(b);
+    for (int c = 0; c < nq; ++c) {
+      for (int r = lower_only ? c : 0; r < nq; ++r) {
+        double sum = 0.0;
+        for (int i = 0; i < nv; ++i) sum += D1(iv + i, iq + r) * w(iv + i) * D2(iv + i, iq + c);
+        (*out)(iq + r, iq + c) += sum;
+      }
+    }
+  }
+}
+
+// G = diag(sqrt(w)) X (nv x nq), the weighted rows of a torque partial: H's torque terms are
+// then G^T G (one symmetric rank update) and G1^T G2.
+template <typename Derived>
+void ScaleRows(const Eigen::VectorXd& w, const Eigen::MatrixXd& X,
+               const Eigen::MatrixBase<Derived>& G_out) {
+  auto& G = const_cast<Eigen::MatrixBase<Derived>&>(G_out);
+  G.noalias() = w.cwiseSqrt().asDiagonal() * X;
 }
 
 }  // namespace
 
 void Transcription::CalcHessianRow(const TrajectoryState& s, const TrajectoryDerivatives& d, int k,
                                    TranscriptionWorkspace* ws, PentaDiagonalMatrix* H) const {
-  Eigen::MatrixXd* T = &ws->scratch_vq;
   // Weights with the active limit terms added (the plain weights when limits are off).
   const auto w_v = [&](int i, Eigen::VectorXd* out) -> const Eigen::VectorXd& {
     return ActiveWeights(Wv(i), s.v[i], v_lo_, v_hi_, wv_lim_, out);
@@ -355,38 +375,43 @@ void Transcription::CalcHessianRow(const TrajectoryState& s, const TrajectoryDer
     return ActiveWeights(WR_, s.tau[j], tau_lo_, tau_hi_, wt_lim_, &ws->w_tau);
   };
   const int r = k - 1;
+  const int nv = model_.nv();
+  // S: the weighted torque partials w.r.t. q_k of the steps j = k-1, k, k+1 that exist,
+  // stacked (rows of j = k-1 first); S_prev: those of j = k-1, k w.r.t. q_{k-1}.
+  Eigen::MatrixXd& S = ws->stacked;
+  Eigen::MatrixXd& S_prev = ws->stacked_prev;
+  const int j_first = std::max(k - 1, 0), j_last = std::min(k + 1, N_ - 1);
+  int rows = 0, rows_prev = 0;
+  for (int j = j_first; j <= j_last; ++j, rows += nv) {
+    const Eigen::VectorXd& w = w_tau(j);
+    ScaleRows(w, d.DtauDq(j, k), S.middleRows(rows, nv));
+    if (k >= 2 && j <= k) ScaleRows(w, d.DtauDq(j, k - 1), S_prev.middleRows(rows_prev, nv));
+    if (k >= 2 && j <= k) rows_prev += nv;
+  }
   Eigen::MatrixXd& C = H->C(r);
   C.setZero();
   C.diagonal() = ActiveWeights(Wq(k), s.q[k], q_lo_, q_hi_, wq_lim_, &ws->w_q);
   const Eigen::VectorXd& wv_k = w_v(k, &ws->w_v);
-  AddWeightedProduct(d.dv_dq[k], wv_k, d.dv_dq[k], T, &C);
-  if (k < N_)
-    AddWeightedProduct(d.dv_dqm[k + 1], w_v(k + 1, &ws->w_v_next), d.dv_dqm[k + 1], T, &C);
-  for (int j = k - 1; j <= k + 1; ++j) {
-    if (j < 0 || j > N_ - 1) continue;
-    AddWeightedProduct(d.DtauDq(j, k), w_tau(j), d.DtauDq(j, k), T, &C);
+  AddVelocityGram(model_, d.dv_dq[k], wv_k, d.dv_dq[k], true, &C);
+  if (k < N_) {
+    AddVelocityGram(model_, d.dv_dqm[k + 1], w_v(k + 1, &ws->w_v_next), d.dv_dqm[k + 1], true, &C);
   }
-  // Exact symmetry of the diagonal block.
-  for (int c = 0; c < nq_; ++c) {
-    for (int i = c + 1; i < nq_; ++i) {
-      const double m = 0.5 * (C(i, c) + C(c, i));
-      C(i, c) = m;
-      C(c, i) = m;
-    }
-  }
+  C.selfadjointView<Eigen::Lower>().rankUpdate(S.topRows(rows).transpose());
+  // Exact symmetry of the diagonal block: the upper triangle is the lower one.
+  C.triangularView<Eigen::StrictlyUpper>() = C.transpose();
   if (k >= 2) {
+    // B = sum over j = k-1, k of (d tau_j/d q_k)^T W (d tau_j/d q_{k-1}): the first rows of S.
     Eigen::MatrixXd& B = H->B(r);
     B.setZero();
-    AddWeightedProduct(d.dv_dq[k], wv_k, d.dv_dqm[k], T, &B);
-    for (int j = k - 1; j <= k; ++j) {
-      if (j > N_ - 1) continue;
-      AddWeightedProduct(d.DtauDq(j, k), w_tau(j), d.DtauDq(j, k - 1), T, &B);
-    }
+    AddVelocityGram(model_, d.dv_dq[k], wv_k, d.dv_dqm[k], false, &B);
+    B.noalias() += S.topRows(rows_prev).transpose() * S_prev.topRows(rows_prev);
   }
   if (k >= 3) {
+    // A = (d tau_{k-1}/d q_k)^T W (d tau_{k-1}/d q_{k-2}).
     Eigen::MatrixXd& A = H->A(r);
-    A.setZero();
-    AddWeightedProduct(d.DtauDq(k - 1, k), w_tau(k - 1), d.DtauDq(k - 1, k - 2), T, &A);
+    Eigen::MatrixXd& G = ws->scratch_vq;
+    ScaleRows(w_tau(k - 1), d.DtauDq(k - 1, k - 2), G);
+    A.noalias() = S.topRows(nv).transpose() * G;
   }
 }
 

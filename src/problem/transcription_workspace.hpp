@@ -27,6 +27,8 @@ struct TranscriptionWorkspace {
         q(Eigen::VectorXd::Zero(model.nq())),
         scratch_v(Eigen::VectorXd::Zero(model.nv())),
         scratch_vq(Eigen::MatrixXd::Zero(model.nv(), model.nq())),
+        stacked(Eigen::MatrixXd::Zero(3 * model.nv(), model.nq())),
+        stacked_prev(Eigen::MatrixXd::Zero(2 * model.nv(), model.nq())),
         Mdt(Eigen::MatrixXd::Zero(model.nv(), model.nv())),
         B(Eigen::MatrixXd::Zero(model.nv(), model.nv())),
         w_q(Eigen::VectorXd::Zero(model.nq())),
@@ -46,6 +48,9 @@ struct TranscriptionWorkspace {
   // Assembly scratch (nested Eigen products would otherwise allocate temporaries): nv, nv x nq.
   Eigen::VectorXd scratch_v;
   Eigen::MatrixXd scratch_vq;
+  // Hessian rows: the weighted torque partials stacked over the steps that involve q_k
+  // (3 nv x nq) and q_{k-1} (2 nv x nq); Transcription::CalcHessianRow.
+  Eigen::MatrixXd stacked, stacked_prev;
   // Analytic derivatives: M / dt and d ID / d v + M / dt (nv x nv), and the contact part's
   // scratch.
   Eigen::MatrixXd Mdt, B;

@@ -1,5 +1,6 @@
 #include "idto/solver/banded_kkt.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -149,20 +150,21 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
   nu_ = num_constraints;
   m_ = n_ + nu_;
   const Eigen::MatrixXd mm = Eigen::MatrixXd::Zero(m_, m_);
-  Lt1_.assign(num_steps_, mm);
-  Lt2_.assign(num_steps_, mm);
-  Lp_.assign(num_steps_, Eigen::MatrixXd::Zero(n_, n_));
-  Y_.assign(num_steps_, Eigen::MatrixXd::Zero(nu_, n_));
-  Ls_.assign(num_steps_, Eigen::MatrixXd::Zero(nu_, nu_));
+  Vt1_.assign(num_steps_, mm);
+  Vt2_.assign(num_steps_, mm);
+  F_.assign(num_steps_, mm);
   K2_ = mm;
   K1_ = mm;
-  K1_prev_ = mm;
+  U1t_ = mm;
+  SVt_ = mm;
   D_ = mm;
   z_ = Eigen::VectorXd::Zero(num_steps_ * m_);
   rp_ = Eigen::VectorXd::Zero(num_steps_ * n_);
   dp_ = rp_;
   rl_ = Eigen::VectorXd::Zero(num_steps_ * nu_);
   dl_ = rl_;
+  work_m_ = Eigen::VectorXd::Zero(m_);
+  extended_.assign(std::max(n_, nu_), 0.0L);
   status_ = KktStatus{};
   H_ = nullptr;
   A_ = nullptr;
@@ -170,78 +172,60 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
 
 namespace {
 
-// In-place lower Cholesky of the square matrix M (no allocation), the upper triangle zeroed.
-// A pivot d (before the square root) fails when !(d > tolerance * diagonal entry before
-// elimination) (tolerance 0: d must be positive; NaN always fails). Returns the failing row or
-// −1, and the relative pivot d / M_ii of that row.
-int CholeskyInPlace(double tolerance, Eigen::MatrixXd* M_in, double* relative_pivot) {
-  Eigen::MatrixXd& M = *M_in;
+// In-place lower Cholesky of the square matrix M (no allocation), reading its lower triangle
+// only and zeroing the upper one. A pivot d (before the square root) fails when
+// !(d > tolerance * diagonal entry before elimination) (tolerance 0: d must be positive; NaN
+// always fails). Returns the failing row or −1, and the relative pivot d / M_ii of that row.
+int CholeskyInPlace(double tolerance, Eigen::Ref<Eigen::MatrixXd> M, double* relative_pivot) {
   const int n = static_cast<int>(M.rows());
   for (int j = 0; j < n; ++j) {
     const double diagonal = M(j, j);
-    double d = diagonal;
-    for (int p = 0; p < j; ++p) d -= M(j, p) * M(j, p);
+    const double d = diagonal - M.row(j).head(j).squaredNorm();
     if (!(d > tolerance * std::abs(diagonal)) || !std::isfinite(d)) {
       *relative_pivot = diagonal != 0.0 ? d / std::abs(diagonal) : d;
       return j;
     }
     const double ljj = std::sqrt(d);
     M(j, j) = ljj;
-    for (int i = j + 1; i < n; ++i) {
-      double s = M(i, j);
-      for (int p = 0; p < j; ++p) s -= M(i, p) * M(j, p);
-      M(i, j) = s / ljj;
+    const int below = n - j - 1;
+    if (below > 0) {
+      auto column = M.col(j).tail(below);
+      column.noalias() -= M.bottomLeftCorner(below, j) * M.row(j).head(j).transpose();
+      column /= ljj;
     }
   }
-  for (int j = 1; j < n; ++j) {
-    for (int i = 0; i < j; ++i) M(i, j) = 0.0;
-  }
+  M.triangularView<Eigen::StrictlyUpper>().setZero();
   return -1;
 }
 
 }  // namespace
 
-bool BandedKktSolver::FactorPivot(int r, Eigen::MatrixXd* D) {
-  // D = [P Qᵀ; Q R] = [Lp 0; Y I] [I 0; 0 −Ls Lsᵀ] [Lpᵀ Yᵀ; 0 I]: P = Lp Lpᵀ, Y = Q Lp⁻ᵀ,
-  // −S = Y Yᵀ − R = Ls Lsᵀ (S the Schur complement of P in D).
-  Eigen::MatrixXd& Lp = Lp_[r];
-  Lp = D->topLeftCorner(n_, n_);
+bool BandedKktSolver::FactorPivot(int r, const Eigen::MatrixXd& D) {
+  // D = [P Qᵀ; Q R] = F Σ Fᵀ, F = [Lp 0; Y Ls]: P = Lp Lpᵀ, Y = Q Lp⁻ᵀ, −S = Y Yᵀ − R = Ls Lsᵀ
+  // (S the Schur complement of P in D).
+  Eigen::MatrixXd& F = F_[r];
+  auto Lp = F.topLeftCorner(n_, n_);
+  Lp = D.topLeftCorner(n_, n_);
   double relative = 0.0;
-  int row = CholeskyInPlace(0.0, &Lp, &relative);
+  int row = CholeskyInPlace(0.0, Lp, &relative);
   if (row >= 0) {
     status_ = {KktStatus::Code::kHessianNotPositiveDefinite, r, row, relative};
     return false;
   }
   if (nu_ == 0) return true;
-  Eigen::MatrixXd& Y = Y_[r];
-  Y = D->bottomLeftCorner(nu_, n_);
+  F.topRightCorner(n_, nu_).setZero();
+  auto Y = F.bottomLeftCorner(nu_, n_);
+  Y = D.bottomLeftCorner(nu_, n_);
   Lp.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(Y);
-  Eigen::MatrixXd& Ls = Ls_[r];
-  Ls = -D->bottomRightCorner(nu_, nu_);
+  auto Ls = F.bottomRightCorner(nu_, nu_);
+  Ls = -D.bottomRightCorner(nu_, nu_);
   Ls.noalias() += Y * Y.transpose();
-  row = CholeskyInPlace(rank_tolerance_, &Ls, &relative);
+  row = CholeskyInPlace(rank_tolerance_, Ls, &relative);
   if (row >= 0) {
     status_ = {KktStatus::Code::kConstraintsRankDeficient, r, row, relative};
     return false;
   }
   return true;
-}
-
-template <typename Derived>
-void BandedKktSolver::PivotSolveInPlace(int r, Eigen::MatrixBase<Derived>& X) const {
-  auto Xa = X.topRows(n_);
-  const auto Lp = Lp_[r].triangularView<Eigen::Lower>();
-  Lp.solveInPlace(Xa);  // w = Lp⁻¹ a
-  if (nu_ > 0) {
-    auto Xb = X.bottomRows(nu_);
-    Xb = -Xb;
-    Xb.noalias() += Y_[r] * Xa;  // Y w − b
-    const auto Ls = Ls_[r].triangularView<Eigen::Lower>();
-    Ls.solveInPlace(Xb);
-    Ls.transpose().solveInPlace(Xb);  // y = (Ls Lsᵀ)⁻¹ (Y w − b)
-    Xa.noalias() -= Y_[r].transpose() * Xb;
-  }
-  Lp.transpose().solveInPlace(Xa);  // x = Lp⁻ᵀ (w − Yᵀ y)
 }
 
 void BandedKktSolver::AssembleOffDiagonal(int r, int c, Eigen::MatrixXd* K) const {
@@ -269,12 +253,14 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
   }
   H_ = &H;
   A_ = &A;
-  // Block LDLᵀ of the interleaved matrix K (unknowns x_r = (p_r, λ_r)); K(r, r−2) and
-  // K(r, r−1) are the only blocks left of the diagonal. With U(r, c) = K(r, c) − Σ L(r, i) D_i
-  // L(c, i)ᵀ: L(r, c) = U(r, c) D_c⁻¹, D_r = K(r, r) − Σ_c L(r, c) U(r, c)ᵀ. No fill-in below
-  // r − 2, so U(r, r−2) = K(r, r−2).
-  // D_r is symmetric: only its lower triangle is formed and read. The λ columns of
-  // U(r, r−2) = K(r, r−2) are zero, so its products run over the first n columns only.
+  // Signed block Cholesky of the interleaved matrix K (unknowns x_r = (p_r, λ_r)):
+  // K = G Σ̂ Gᵀ, G(r, r) = F_r, G(r, c) = V(r, c) Σ for c < r, with
+  //   U(r, c) = K(r, c) − Σ_{i<c} V(r, i) Σ V(c, i)ᵀ,   V(r, c) = U(r, c) F_c⁻ᵀ,
+  //   D_r = F_r Σ F_rᵀ = K(r, r) − Σ_{c<r} V(r, c) Σ V(r, c)ᵀ.
+  // K(r, r−2) and K(r, r−1) are the only blocks left of the diagonal and there is no fill-in
+  // below r − 2, so U(r, r−2) = K(r, r−2). The same pivots as a block LDLᵀ (D_r = F_r Σ F_rᵀ),
+  // but each off-diagonal block costs one triangular solve with F_c instead of a solve with D_c.
+  // D_r is symmetric: only its lower triangle is formed and read.
   for (int r = 0; r < num_steps_; ++r) {
     D_.topLeftCorner(n_, n_) = H.C(r);
     D_.bottomLeftCorner(nu_, n_) = A.Block(r, r + 1);
@@ -282,19 +268,26 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
     auto D_lower = D_.triangularView<Eigen::Lower>();
     if (r >= 2) {
       AssembleOffDiagonal(r, r - 2, &K2_);
-      Lt2_[r] = K2_.transpose();
-      PivotSolveInPlace(r - 2, Lt2_[r]);
-      D_lower -= Lt2_[r].topRows(n_).transpose() * K2_.leftCols(n_).transpose();
+      Eigen::MatrixXd& Vt2 = Vt2_[r];
+      Vt2 = K2_.transpose();
+      F_[r - 2].triangularView<Eigen::Lower>().solveInPlace(Vt2);
+      SVt_ = Vt2;
+      SVt_.bottomRows(nu_) *= -1.0;
+      D_lower -= Vt2.transpose() * SVt_;
     }
     if (r >= 1) {
       AssembleOffDiagonal(r, r - 1, &K1_);
-      if (r >= 2) K1_.noalias() -= Lt2_[r].transpose() * K1_prev_.transpose();
-      Lt1_[r] = K1_.transpose();
-      PivotSolveInPlace(r - 1, Lt1_[r]);
-      D_lower -= Lt1_[r].transpose() * K1_.transpose();
-      K1_prev_.swap(K1_);  // U(r, r−1), needed by row r + 1
+      U1t_ = K1_.transpose();
+      // U(r, r−1)ᵀ = K(r, r−1)ᵀ − V(r−1, r−2) Σ V(r, r−2)ᵀ (SVt_ holds Σ V(r, r−2)ᵀ).
+      if (r >= 2) U1t_.noalias() -= Vt1_[r - 1].transpose() * SVt_;
+      Eigen::MatrixXd& Vt1 = Vt1_[r];
+      Vt1 = U1t_;
+      F_[r - 1].triangularView<Eigen::Lower>().solveInPlace(Vt1);
+      SVt_ = Vt1;
+      SVt_.bottomRows(nu_) *= -1.0;
+      D_lower -= Vt1.transpose() * SVt_;
     }
-    if (!FactorPivot(r, &D_)) return status_;
+    if (!FactorPivot(r, D_)) return status_;
   }
   status_ = {KktStatus::Code::kSuccess, -1, -1, 0.0};
   return status_;
@@ -302,19 +295,24 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
 
 void BandedKktSolver::SolveInterleavedInPlace() {
   const int m = m_;
-  for (int r = 1; r < num_steps_; ++r) {
-    auto zr = z_.segment(r * m, m);
-    zr.noalias() -= Lt1_[r].transpose() * z_.segment((r - 1) * m, m);
-    if (r >= 2) zr.noalias() -= Lt2_[r].transpose() * z_.segment((r - 2) * m, m);
-  }
+  // Forward: G y = b, stored as z_r = Σ y_r with y_r = F_r⁻¹ (b_r − Σ_{c<r} V(r, c) z_c).
   for (int r = 0; r < num_steps_; ++r) {
     auto zr = z_.segment(r * m, m);
-    PivotSolveInPlace(r, zr);
+    if (r >= 1) zr.noalias() -= Vt1_[r].transpose() * z_.segment((r - 1) * m, m);
+    if (r >= 2) zr.noalias() -= Vt2_[r].transpose() * z_.segment((r - 2) * m, m);
+    F_[r].triangularView<Eigen::Lower>().solveInPlace(zr);
+    zr.tail(nu_) *= -1.0;
   }
-  for (int r = num_steps_ - 2; r >= 0; --r) {
+  // Backward: Gᵀ x = z, x_r = F_r⁻ᵀ (z_r − Σ Σ_{c>r} V(c, r)ᵀ x_c).
+  for (int r = num_steps_ - 1; r >= 0; --r) {
     auto zr = z_.segment(r * m, m);
-    zr.noalias() -= Lt1_[r + 1] * z_.segment((r + 1) * m, m);
-    if (r + 2 < num_steps_) zr.noalias() -= Lt2_[r + 2] * z_.segment((r + 2) * m, m);
+    if (r + 1 < num_steps_) {
+      work_m_.noalias() = Vt1_[r + 1] * z_.segment((r + 1) * m, m);
+      if (r + 2 < num_steps_) work_m_.noalias() += Vt2_[r + 2] * z_.segment((r + 2) * m, m);
+      work_m_.tail(nu_) *= -1.0;
+      zr -= work_m_;
+    }
+    F_[r].triangularView<Eigen::Lower>().transpose().solveInPlace(zr);
   }
 }
 
@@ -361,11 +359,69 @@ void BandedKktSolver::Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& 
     ThrowInvalidArgument("BandedKktSolver::Residual", "the solver", "not factored",
                          "a call to Factor first");
   }
-  H_->Multiply(p, rp);
-  A_->AddMultiplyTranspose(lambda, rp);
-  *rp = -*rp - g;
-  A_->Multiply(p, rl);
-  *rl = -*rl - h;
+  const int N = num_steps_, n = n_, nu = nu_;
+  const PentaDiagonalMatrix& H = *H_;
+  const BlockConstraintJacobian& A = *A_;
+  if (!extended_residual_) {
+    H.Multiply(p, rp);
+    A.AddMultiplyTranspose(lambda, rp);
+    *rp = -*rp - g;
+    A.Multiply(p, rl);
+    *rl = -*rl - h;
+    return;
+  }
+  // Accumulated in long double (a 64-bit significand on x86-64) and rounded once: the
+  // refinement then corrects the error that the conditioning of K puts into the double solve,
+  // not only the round-off of the factorization (docs/solver.md, "Accuracy"). Every loop runs
+  // along a stored column.
+  if (rp->size() != N * n) rp->resize(N * n);
+  if (rl->size() != N * nu) rl->resize(N * nu);
+  long double* acc = extended_.data();
+  for (int r = 0; r < N; ++r) {
+    for (int i = 0; i < n; ++i) acc[i] = -static_cast<long double>(g(r * n + i));
+    // Blocks left of the diagonal and the diagonal one, H(r, c) = A(r), B(r), C(r): by columns.
+    for (int c = std::max(0, r - 2); c <= r; ++c) {
+      const Eigen::MatrixXd& M = c == r ? H.C(r) : (c == r - 1 ? H.B(r) : H.A(r));
+      for (int j = 0; j < n; ++j) {
+        const long double pj = p(c * n + j);
+        const double* column = M.col(j).data();
+        for (int i = 0; i < n; ++i) acc[i] -= column[i] * pj;
+      }
+    }
+    // Right of the diagonal, H(r, c) = M(c)ᵀ: row i of it is column i of M(c).
+    for (int c = r + 1; c <= std::min(N - 1, r + 2); ++c) {
+      const Eigen::MatrixXd& M = c == r + 1 ? H.B(c) : H.A(c);
+      const double* pc = p.data() + c * n;
+      for (int i = 0; i < n; ++i) {
+        const double* column = M.col(i).data();
+        long double sum = 0.0L;
+        for (int j = 0; j < n; ++j) sum += static_cast<long double>(column[j]) * pc[j];
+        acc[i] -= sum;
+      }
+    }
+    // Aᵀλ: the constraints h_j that involve q_{r+1}; row i of J(j, r+1)ᵀ is its column i.
+    for (int j = r; j <= std::min(N - 1, r + 2); ++j) {
+      const Eigen::MatrixXd& J = A.Block(j, r + 1);
+      const double* l = lambda.data() + j * nu;
+      for (int i = 0; i < n; ++i) {
+        const double* column = J.col(i).data();
+        for (int u = 0; u < nu; ++u) acc[i] -= static_cast<long double>(column[u]) * l[u];
+      }
+    }
+    for (int i = 0; i < n; ++i) (*rp)(r * n + i) = static_cast<double>(acc[i]);
+  }
+  for (int j = 0; j < N; ++j) {
+    for (int u = 0; u < nu; ++u) acc[u] = -static_cast<long double>(h(j * nu + u));
+    for (int s = std::max(1, j - 1); s <= std::min(N, j + 1); ++s) {
+      const Eigen::MatrixXd& J = A.Block(j, s);
+      for (int i = 0; i < n; ++i) {
+        const long double pi = p((s - 1) * n + i);
+        const double* column = J.col(i).data();
+        for (int u = 0; u < nu; ++u) acc[u] -= column[u] * pi;
+      }
+    }
+    for (int u = 0; u < nu; ++u) (*rl)(j * nu + u) = static_cast<double>(acc[u]);
+  }
 }
 
 }  // namespace idto

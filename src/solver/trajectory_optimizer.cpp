@@ -75,6 +75,7 @@ class TrajectoryOptimizer::Impl {
       A_.Resize(N_, nq_, nu_);
       kkt_.Resize(N_, nq_, nu_);
     }
+    kkt_.set_extended_residual(options_.kkt_extended_residual);
   }
 
   bool lagrange() const {
@@ -126,21 +127,22 @@ class TrajectoryOptimizer::Impl {
     const Clock::time_point t2 = Clock::now();
     s->time_hessian = Seconds(t1, t2);
     internal::CalcScaling(H_, options_.scaling, &D_);
-    const bool factored =
-        internal::FactorizeWithShift(&H_, &chol_, &scratch_a_, &s->regularization);
-    const Clock::time_point t3 = Clock::now();
-    s->time_factorization = Seconds(t2, t3);
-    if (!factored) {
-      return Fail(summary, "the Hessian factorization failed at block " +
-                               std::to_string(chol_.failed_block()) +
-                               " even with regularization; last good iterate kept");
-    }
     g_merit_ = g_;
     merit_ = x_.cost;
     if (lagrange()) {
-      if (!SolveKkt(s, summary)) return false;
-      s->time_multipliers = Seconds(t3, Clock::now());
+      // The KKT factorization includes H's: no separate Cholesky.
+      const bool solved = SolveKkt(s, summary);
+      s->time_multipliers = Seconds(t2, Clock::now());
+      if (!solved) return false;
     } else {
+      const bool factored =
+          internal::FactorizeWithShift(&H_, &chol_, &scratch_a_, &s->regularization);
+      s->time_factorization = Seconds(t2, Clock::now());
+      if (!factored) {
+        return Fail(summary, "the Hessian factorization failed at block " +
+                                 std::to_string(chol_.failed_block()) +
+                                 " even with regularization; last good iterate kept");
+      }
       p_newton_ = -g_merit_;
       chol_.SolveInPlace(&p_newton_);
     }
@@ -164,7 +166,7 @@ class TrajectoryOptimizer::Impl {
     }
     double shift = 0.0;
     const bool factored = FactorKktWithShift(&shift);
-    s->regularization += shift;
+    s->regularization = shift;
     if (!factored) {
       return Fail(summary, kkt_.status().Message() +
                                " (also with the Hessian shifted by up to 1e-2 of its diagonal); "
@@ -177,29 +179,11 @@ class TrajectoryOptimizer::Impl {
   }
 
   // Factors the KKT system; where round-off makes the Hessian's reduced blocks indefinite (stiff
-  // contact: condition numbers beyond 1e12) shifts H's diagonal as FactorizeWithShift does
-  // (relative shifts 1e-12 .. 1e-2, x100 each attempt) and retries. *mu: the relative shift
-  // added here (0 when none was needed).
+  // contact: condition numbers beyond 1e12) shifts H's diagonal as the penalty route does and
+  // retries. *mu: the relative shift added here (0 when none was needed).
   bool FactorKktWithShift(double* mu) {
-    *mu = 0.0;
-    if (kkt_.Factor(H_, A_).ok()) return true;
-    H_.Diagonal(&scratch_b_);
-    const int n = H_.block_size();
-    double applied = 0.0;
-    for (double next = 1e-12; next <= 1e-2 * (1 + 1e-9); next *= 100.0) {
-      for (int r = 0; r < N_; ++r) {
-        for (int i = 0; i < n; ++i) {
-          const double d = scratch_b_(r * n + i);
-          H_.C(r)(i, i) += (next - applied) * (d > 0.0 ? d : 1.0);
-        }
-      }
-      applied = next;
-      if (kkt_.Factor(H_, A_).ok()) {
-        *mu = applied;
-        return true;
-      }
-    }
-    return false;
+    return internal::FactorWithShift(&H_, &scratch_b_, mu,
+                                     [&] { return kkt_.Factor(H_, A_).ok(); });
   }
 
   bool Fail(SolverSummary* summary, const std::string& message) const {

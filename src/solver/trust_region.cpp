@@ -20,28 +20,10 @@ void CalcScaling(const PentaDiagonalMatrix& H, ScalingMethod method, Eigen::Vect
 
 bool FactorizeWithShift(PentaDiagonalMatrix* H, PentaDiagonalCholesky* chol,
                         Eigen::VectorXd* diagonal, double* mu) {
-  *mu = 0.0;
-  chol->compute(*H);
-  if (chol->info() == PentaDiagonalCholesky::Info::kSuccess) return true;
-  H->Diagonal(diagonal);
-  const int N = H->num_blocks(), n = H->block_size();
-  double applied = 0.0;
-  for (double next = 1e-12; next <= 1e-2 * (1 + 1e-9); next *= 100.0) {
-    for (int r = 0; r < N; ++r) {
-      for (int i = 0; i < n; ++i) {
-        const double d = (*diagonal)(r * n + i);
-        // Rows without curvature get an absolute shift.
-        H->C(r)(i, i) += (next - applied) * (d > 0.0 ? d : 1.0);
-      }
-    }
-    applied = next;
+  return FactorWithShift(H, diagonal, mu, [&] {
     chol->compute(*H);
-    if (chol->info() == PentaDiagonalCholesky::Info::kSuccess) {
-      *mu = applied;
-      return true;
-    }
-  }
-  return false;
+    return chol->info() == PentaDiagonalCholesky::Info::kSuccess;
+  });
 }
 
 void CalcCauchyPoint(const PentaDiagonalMatrix& H, const Eigen::VectorXd& g,

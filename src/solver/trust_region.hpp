@@ -22,12 +22,40 @@ constexpr double kMinTrustRadius = 1e-12;
 // positive and finite or scaling is off.
 void CalcScaling(const PentaDiagonalMatrix& H, ScalingMethod method, Eigen::VectorXd* D);
 
-// Factors *H. A Gauss-Newton Hessian is positive semi-definite in exact arithmetic, but with
-// stiff contact its entries span ~18 orders of magnitude and round-off can make it numerically
-// indefinite (or a block singular). Then retries with H + mu diag(H) (scale invariant, a
-// Levenberg-Marquardt shift), mu = 1e-12, 1e-10, ..., 1e-2; the shift stays in *H, so the step
-// and the predicted reduction use the same model. *mu: the shift used. `diagonal` is scratch
-// (N nq). False when even the largest shift fails.
+// Factors *H with `factor()` (true on success: the penta-diagonal Cholesky of the penalty
+// route, or the KKT factorization of the Lagrange route, which reads *H). A Gauss-Newton
+// Hessian is positive semi-definite in exact arithmetic, but with stiff contact its entries span
+// ~18 orders of magnitude and round-off can make it numerically indefinite (or a block
+// singular). Then retries with H + mu diag(H) (scale invariant, a Levenberg-Marquardt shift),
+// mu = 1e-12, 1e-10, ..., 1e-2; the shift stays in *H, so the step and the predicted reduction
+// use the same model. *mu: the shift used. `diagonal` is scratch (N nq). False when even the
+// largest shift fails.
+template <typename Factor>
+bool FactorWithShift(PentaDiagonalMatrix* H, Eigen::VectorXd* diagonal, double* mu,
+                     const Factor& factor) {
+  *mu = 0.0;
+  if (factor()) return true;
+  H->Diagonal(diagonal);
+  const int N = H->num_blocks(), n = H->block_size();
+  double applied = 0.0;
+  for (double next = 1e-12; next <= 1e-2 * (1 + 1e-9); next *= 100.0) {
+    for (int r = 0; r < N; ++r) {
+      for (int i = 0; i < n; ++i) {
+        const double d = (*diagonal)(r * n + i);
+        // Rows without curvature get an absolute shift.
+        H->C(r)(i, i) += (next - applied) * (d > 0.0 ? d : 1.0);
+      }
+    }
+    applied = next;
+    if (factor()) {
+      *mu = applied;
+      return true;
+    }
+  }
+  return false;
+}
+
+// FactorWithShift with the penta-diagonal Cholesky.
 bool FactorizeWithShift(PentaDiagonalMatrix* H, PentaDiagonalCholesky* chol,
                         Eigen::VectorXd* diagonal, double* mu);
 

@@ -98,6 +98,57 @@ TEST(Transcription, AgreesWithTheOptimizerAndTakesAnotherDerivativeMethod) {
               ::testing::ThrowsMessage<InvalidArgument>(::testing::HasSubstr("evaluator")));
 }
 
+// The Gauss-Newton Hessian against its definition, formed densely: J^T W J with J the Jacobian
+// of the residuals (q_k, v_k and tau_j, stacked) from the derivative blocks, W their weights.
+// CalcHessianRow exploits the structure (block-diagonal velocity partials, stacked symmetric
+// rank updates); this oracle does not.
+TEST(Transcription, HessianIsTheDenseGaussNewtonProduct) {
+  const Model model = test::BallAndFinger();
+  const int N = 7, nq = model.nq(), nv = model.nv();
+  ProblemDefinition p = BallAndFingerProblem(model, N);
+  p.Qv.setLinSpaced(0.05, 0.3);
+  p.R.setLinSpaced(0.02, 0.4);
+  Transcription t(model, p);
+  const double penalty = 3e3;
+  t.SetPenaltyWeight(penalty);
+  TrajectoryState state = t.MakeState();
+  state.q = Guess(model, p);
+  t.Evaluate(&state);
+  TrajectoryDerivatives d = t.MakeDerivatives();
+  t.CalcDerivatives(state, &d);
+  PentaDiagonalMatrix H(N, nq);
+  t.CalcHessian(state, d, &H);
+
+  const double dt = p.time_step;
+  Eigen::VectorXd R = p.R;
+  for (int u : t.unactuated_dofs()) R(u) = penalty;
+  // Residual rows: q_1..q_N (nq each), v_1..v_N (nv each), tau_0..tau_{N-1} (nv each).
+  const int rows = N * nq + 2 * N * nv;
+  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(rows, N * nq);
+  Eigen::VectorXd w(rows);
+  const auto col = [&](int s) { return (s - 1) * nq; };
+  for (int k = 1; k <= N; ++k) {
+    const int rq = (k - 1) * nq, rv = N * nq + (k - 1) * nv;
+    J.block(rq, col(k), nq, nq).setIdentity();
+    w.segment(rq, nq) = k < N ? Eigen::VectorXd(dt * p.Qq) : p.Qfq;
+    J.block(rv, col(k), nv, nq) = d.dv_dq[k];
+    if (k >= 2) J.block(rv, col(k - 1), nv, nq) = d.dv_dqm[k];
+    w.segment(rv, nv) = k < N ? Eigen::VectorXd(dt * p.Qv) : p.Qfv;
+  }
+  for (int j = 0; j < N; ++j) {
+    const int rt = N * (nq + nv) + j * nv;
+    for (int s = std::max(j - 1, 1); s <= std::min(j + 1, N); ++s) {
+      J.block(rt, col(s), nv, nq) = d.DtauDq(j, s);
+    }
+    w.segment(rt, nv) = dt * R;
+  }
+  const Eigen::MatrixXd expected = J.transpose() * w.asDiagonal() * J;
+  const Eigen::MatrixXd dense = H.MakeDense();
+  EXPECT_LE((dense - expected).norm(), 1e-14 * expected.norm());
+  EXPECT_EQ((dense - dense.transpose()).norm(), 0.0);  // exactly symmetric
+  EXPECT_GT(expected.norm(), 1.0);
+}
+
 TEST(TrustRegion, DoglegStepKinds) {
   const Eigen::VectorXd D = Eigen::Vector2d(1.0, 2.0);
   const Eigen::VectorXd p_newton = Eigen::Vector2d(2.0, 0.0);

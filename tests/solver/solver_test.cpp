@@ -288,6 +288,32 @@ TEST(Solver, LagrangeMultipliersDriveUnactuatedTorquesToZeroUnlikeThePenalty) {
   EXPECT_NEAR(h.squaredNorm(), s_lm.constraint_violation, 1e-12);
 }
 
+// kkt_extended_residual changes only the round-off of the Lagrange step: the same solve to
+// ~1e-9, but not bit for bit (the option reaches the KKT solver).
+TEST(Solver, ExtendedKktResidualChangesOnlyRoundOff) {
+  const Model model = Pusher();
+  const ProblemDefinition p = PusherProblem(model);
+  std::vector<Eigen::VectorXd> guess(21, p.q_init);
+  std::vector<Trajectory> sols(2);
+  for (bool extended : {false, true}) {
+    SolverOptions o;
+    o.constraint_method = ConstraintMethod::kLagrangeMultipliers;
+    o.max_iterations = 10;
+    o.fixed_iterations = true;
+    o.kkt_extended_residual = extended;
+    TrajectoryOptimizer opt(model, p, o);
+    const SolverSummary s = opt.Solve(guess, &sols[extended]);
+    EXPECT_NE(s.termination, TerminationType::kFailure) << s.message;
+  }
+  double difference = 0.0, scale = 0.0;
+  for (size_t k = 0; k < sols[0].q.size(); ++k) {
+    difference = std::max(difference, (sols[0].q[k] - sols[1].q[k]).cwiseAbs().maxCoeff());
+    scale = std::max(scale, sols[0].q[k].cwiseAbs().maxCoeff());
+  }
+  EXPECT_LE(difference, 1e-9 * scale);
+  EXPECT_GT(difference, 0.0);
+}
+
 TEST(Solver, ResultsAreBitwiseIdenticalForOneAndTwoThreads) {
   const Model model = BallAndFinger();
   const ProblemDefinition p = BallAndFingerProblem(model, 8);
