@@ -33,9 +33,9 @@ namespace {
 // Waiting: spin this many checks (with a CPU pause), then yield until kYieldTime has passed
 // since the wait began, then sleep on a condition variable.
 constexpr int kSpinChecks = 256;
-constexpr std::chrono::microseconds kYieldTime{50};
+constexpr std::chrono::microseconds kYieldTime{250};
 // Ranges longer than kChunksPerThread * participants are cut into chunks of several indices.
-constexpr int kChunksPerThread = 64;
+constexpr int kChunksPerThread = 4;  // see parallel.hpp
 
 // The work word: generation (24 bits) | next chunk (20 bits) | number of chunks (20 bits).
 constexpr int kCountBits = 20;
