@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "idto/core/errors.hpp"
+#include "math/cholesky_in_place.hpp"
 
 namespace idto {
 
@@ -170,36 +171,6 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
   A_ = nullptr;
 }
 
-namespace {
-
-// In-place lower Cholesky of the square matrix M (no allocation), reading its lower triangle
-// only and zeroing the upper one. A pivot d (before the square root) fails when
-// !(d > tolerance * diagonal entry before elimination) (tolerance 0: d must be positive; NaN
-// always fails). Returns the failing row or −1, and the relative pivot d / M_ii of that row.
-int CholeskyInPlace(double tolerance, Eigen::Ref<Eigen::MatrixXd> M, double* relative_pivot) {
-  const int n = static_cast<int>(M.rows());
-  for (int j = 0; j < n; ++j) {
-    const double diagonal = M(j, j);
-    const double d = diagonal - M.row(j).head(j).squaredNorm();
-    if (!(d > tolerance * std::abs(diagonal)) || !std::isfinite(d)) {
-      *relative_pivot = diagonal != 0.0 ? d / std::abs(diagonal) : d;
-      return j;
-    }
-    const double ljj = std::sqrt(d);
-    M(j, j) = ljj;
-    const int below = n - j - 1;
-    if (below > 0) {
-      auto column = M.col(j).tail(below);
-      column.noalias() -= M.bottomLeftCorner(below, j) * M.row(j).head(j).transpose();
-      column /= ljj;
-    }
-  }
-  M.triangularView<Eigen::StrictlyUpper>().setZero();
-  return -1;
-}
-
-}  // namespace
-
 bool BandedKktSolver::FactorPivot(int r, const Eigen::MatrixXd& D) {
   // D = [P Qᵀ; Q R] = F Σ Fᵀ, F = [Lp 0; Y Ls]: P = Lp Lpᵀ, Y = Q Lp⁻ᵀ, −S = Y Yᵀ − R = Ls Lsᵀ
   // (S the Schur complement of P in D).
@@ -207,7 +178,7 @@ bool BandedKktSolver::FactorPivot(int r, const Eigen::MatrixXd& D) {
   auto Lp = F.topLeftCorner(n_, n_);
   Lp = D.topLeftCorner(n_, n_);
   double relative = 0.0;
-  int row = CholeskyInPlace(0.0, Lp, &relative);
+  int row = internal::CholeskyLowerInPlace(0.0, Lp, &relative);
   if (row >= 0) {
     status_ = {KktStatus::Code::kHessianNotPositiveDefinite, r, row, relative};
     return false;
@@ -220,7 +191,7 @@ bool BandedKktSolver::FactorPivot(int r, const Eigen::MatrixXd& D) {
   auto Ls = F.bottomRightCorner(nu_, nu_);
   Ls = -D.bottomRightCorner(nu_, nu_);
   Ls.noalias() += Y * Y.transpose();
-  row = CholeskyInPlace(rank_tolerance_, Ls, &relative);
+  row = internal::CholeskyLowerInPlace(rank_tolerance_, Ls, &relative);
   if (row >= 0) {
     status_ = {KktStatus::Code::kConstraintsRankDeficient, r, row, relative};
     return false;
