@@ -226,39 +226,41 @@ inline void RneaDerivativesBackwardBody(const Model& model, BodyIndex i, bool wi
     H.col(c) << h.n, h.f;
     K.col(c) << k.n, k.f;
   }
+  const auto S_i = data->S_.middleCols(iv, n);
   for (int r = 0; r < n; ++r) {
-    const auto s_r = data->S_.col(iv + r);
-    data->tau(iv + r) = s_r.template head<3>().dot(body.F.n) + s_r.template tail<3>().dot(body.F.f);
-    for (int c = 0; c < n; ++c) {
-      Scalar extra(0);
-      if (IsMixedFrameTranslation(type, c)) {
-        extra = Dot(Cross(LoadColumn(data->S_, iv + c), LoadColumn(data->S_, iv + r)), body.F);
-      }
-      dq(iv + r, iv + c) = s_r.dot(G.col(c)) + extra;
-      dv(iv + r, iv + c) = s_r.dot(H.col(c));
-      M(iv + r, iv + c) = s_r.dot(K.col(c));
+    data->tau(iv + r) =
+        S_i.col(r).template head<3>().dot(body.F.n) + S_i.col(r).template tail<3>().dot(body.F.f);
+  }
+  dq.block(iv, iv, n, n).noalias() = S_i.transpose() * G.leftCols(n);
+  dv.block(iv, iv, n, n).noalias() = S_i.transpose() * H.leftCols(n);
+  M.block(iv, iv, n, n).noalias() = S_i.transpose() * K.leftCols(n);
+  for (int c = 0; c < n; ++c) {
+    if (!IsMixedFrameTranslation(type, c)) continue;
+    for (int r = 0; r < n; ++r) {
+      dq(iv + r, iv + c) +=
+          Dot(Cross(LoadColumn(data->S_, iv + c), LoadColumn(data->S_, iv + r)), body.F);
     }
   }
+  // Rows and columns of the ancestors j: small products with inner dimension 6 or 3 (Eigen
+  // evaluates them coefficient-wise, vectorized, without GEMM's packing).
+  const auto Gi = G.leftCols(n);
+  const auto Hi = H.leftCols(n);
+  const auto Ki = K.leftCols(n);
   for (BodyIndex j = model.moving_parent(i); j != kWorldBody; j = model.moving_parent(j)) {
     const int nj = model.joint_nv(j);
     const int jv = model.velocity_start(j);
-    for (int r = 0; r < nj; ++r) {
-      const auto s_j = data->S_.col(jv + r);
-      const auto u_j = data->dV_dq_.col(jv + r);
-      const auto w_j = data->dA_dq_.col(jv + r);
-      const auto up_j = data->dA_dv_.col(jv + r);
-      for (int c = 0; c < n; ++c) {
-        dq(jv + r, iv + c) = s_j.dot(G.col(c));
-        dv(jv + r, iv + c) = s_j.dot(H.col(c));
-        const Scalar m = s_j.dot(K.col(c));
-        M(jv + r, iv + c) = m;
-        M(iv + c, jv + r) = m;
-        Scalar d = K.col(c).dot(w_j) + Y2.col(c).dot(u_j.template head<3>());
-        if (with_ext) d -= Y3.col(c).dot(s_j.template head<3>());
-        dq(iv + c, jv + r) = d;
-        dv(iv + c, jv + r) = K.col(c).dot(up_j) + Y2.col(c).dot(s_j.template head<3>());
-      }
-    }
+    const auto S_j = data->S_.middleCols(jv, nj);
+    dq.block(jv, iv, nj, n).noalias() = S_j.transpose() * Gi;
+    dv.block(jv, iv, nj, n).noalias() = S_j.transpose() * Hi;
+    M.block(jv, iv, nj, n).noalias() = S_j.transpose() * Ki;
+    M.block(iv, jv, n, nj) = M.block(jv, iv, nj, n).transpose();
+    auto dq_ij = dq.block(iv, jv, n, nj);
+    dq_ij.noalias() = Ki.transpose() * data->dA_dq_.middleCols(jv, nj);
+    dq_ij.noalias() += Y2.leftCols(n).transpose() * data->dV_dq_.middleCols(jv, nj).topRows(3);
+    if (with_ext) dq_ij.noalias() -= Y3.leftCols(n).transpose() * S_j.topRows(3);
+    auto dv_ij = dv.block(iv, jv, n, nj);
+    dv_ij.noalias() = Ki.transpose() * data->dA_dv_.middleCols(jv, nj);
+    dv_ij.noalias() += Y2.leftCols(n).transpose() * S_j.topRows(3);
   }
 }
 
