@@ -5,6 +5,7 @@
 // Read from the file's own YAML tree by the reader of yaml_reader.hpp, like every section.
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,9 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "plant",
                                            "plant_time_step",
                                            "latency",
+                                           "latency_jitter",
+                                           "sensor_noise",
+                                           "seed",
                                            "kp",
                                            "kd",
                                            "relative",
@@ -40,6 +44,8 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "solver"};
 const std::vector<std::string> kBuiltinContactKeys = {
     "stiffness", "smoothing", "dissipation_velocity", "friction_coefficient", "stiction_velocity"};
+const std::vector<std::string> kSensorNoiseKeys = {"position", "velocity_relative",
+                                                   "velocity_floor"};
 const std::vector<std::string> kDisturbanceKeys = {"body", "start", "duration", "force"};
 
 /// The options of a file without an `mpc` section (and the starting point of one with it).
@@ -102,6 +108,20 @@ void ReadLatency(const MapReader& mpc, mpc::ClosedLoopOptions* cl) {
   } else {
     mpc.reader().FailValue(node, mpc.Path("latency"), Describe(node), expected);
   }
+}
+
+/// latency_jitter (s), seed (integer >= 0) and sensor_noise: {position, velocity_relative,
+/// velocity_floor} (mpc::ClosedLoopOptions; absent keys keep the defaults: no noise, no jitter).
+void ReadNoiseAndJitter(const MapReader& mpc, mpc::ClosedLoopOptions* cl) {
+  cl->latency_jitter = mpc.NonNegative("latency_jitter", cl->latency_jitter);
+  cl->seed = static_cast<std::uint64_t>(mpc.Int("seed", static_cast<int>(cl->seed), 0));
+  if (!mpc.Has("sensor_noise")) return;
+  const MapReader n(mpc.reader(), mpc.Get("sensor_noise"), mpc.Path("sensor_noise"),
+                    kSensorNoiseKeys);
+  mpc::SensorNoise& noise = cl->sensor_noise;
+  noise.position = n.NonNegative("position", noise.position);
+  noise.velocity_relative = n.NonNegative("velocity_relative", noise.velocity_relative);
+  noise.velocity_floor = n.NonNegative("velocity_floor", noise.velocity_floor);
 }
 
 /// relative: [joint, or {joint: [coordinate indices within the joint]}] -> position indices.
@@ -210,6 +230,7 @@ MpcConfig ReadMpcConfig(const MapReader& mpc, const ExampleConfig& config) {
   MpcConfig m = DefaultMpcConfig(model, config.problem.contact);
   ReadScalars(mpc, &m);
   ReadLatency(mpc, &m.closed_loop);
+  ReadNoiseAndJitter(mpc, &m.closed_loop);
   const JointVectorReader gains(mpc.reader(), model);
   using Space = JointVectorReader::Space;
   if (mpc.Has("kp")) {

@@ -7,7 +7,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <random>
 #include <sstream>
+#include <vector>
+
+#include <Eigen/Geometry>
 #include <stdexcept>
 
 #include "idto/core/errors.hpp"
@@ -66,16 +70,85 @@ std::string ClosedLoopLog::ToCsv(const Model& model) const {
   return out.str();
 }
 
-ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options,
-                            Controller* controller, sim::Plant* plant) {
+double UniformDraw(std::mt19937_64* rng) { return static_cast<double>((*rng)() >> 11) * 0x1.0p-53; }
+
+double NormalDraw(std::mt19937_64* rng) {
+  // Box-Muller; 1 - u is in (0, 1], so the logarithm is finite.
+  const double u1 = 1.0 - UniformDraw(rng);
+  const double u2 = UniformDraw(rng);
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+}
+
+void MeasureState(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                  const SensorNoise& noise, std::mt19937_64* rng, Eigen::VectorXd* q_hat,
+                  Eigen::VectorXd* v_hat) {
+  *q_hat = q;
+  *v_hat = v;
+  if (!noise.enabled()) return;
+  if (noise.position > 0.0) {
+    std::vector<bool> is_quaternion(model.nq(), false);
+    for (JointIndex j : model.floating_joints()) {
+      const int s = model.position_start(j);
+      for (int k = 0; k < 4; ++k) is_quaternion[s + k] = true;
+      Eigen::Vector3d rotation;
+      for (int k = 0; k < 3; ++k) rotation(k) = noise.position * NormalDraw(rng);
+      const double angle = rotation.norm();
+      const Eigen::Quaterniond turn =
+          angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation / angle))
+                      : Eigen::Quaterniond::Identity();
+      const Eigen::Quaterniond measured =
+          (turn * Eigen::Quaterniond(q(s), q(s + 1), q(s + 2), q(s + 3))).normalized();
+      q_hat->segment<4>(s) << measured.w(), measured.x(), measured.y(), measured.z();
+    }
+    for (int i = 0; i < model.nq(); ++i) {
+      if (!is_quaternion[i]) (*q_hat)(i) += noise.position * NormalDraw(rng);
+    }
+  }
+  if (noise.velocity_relative > 0.0 || noise.velocity_floor > 0.0) {
+    for (int i = 0; i < model.nv(); ++i) {
+      const double sigma = std::max(noise.velocity_relative * std::abs(v(i)), noise.velocity_floor);
+      (*v_hat)(i) += sigma * NormalDraw(rng);
+    }
+  }
+}
+
+namespace {
+
+void CheckOptions(const ClosedLoopOptions& options) {
   static constexpr const char* kWhere = "RunClosedLoop";
   CheckPositive(kWhere, "options.duration", options.duration);
   CheckPositive(kWhere, "options.plant_time_step", options.plant_time_step);
   CheckNonNegative(kWhere, "options.fixed_latency", options.fixed_latency);
+  CheckNonNegative(kWhere, "options.latency_jitter", options.latency_jitter);
+  CheckNonNegative(kWhere, "options.sensor_noise.position", options.sensor_noise.position);
+  CheckNonNegative(kWhere, "options.sensor_noise.velocity_relative",
+                   options.sensor_noise.velocity_relative);
+  CheckNonNegative(kWhere, "options.sensor_noise.velocity_floor",
+                   options.sensor_noise.velocity_floor);
   if (options.log_every < 1) {
     ThrowInvalidArgument(kWhere, "options.log_every", std::to_string(options.log_every),
                          "at least 1");
   }
+}
+
+/// The sum of the scripted disturbances acting at time t (body -1 when none does).
+void DisturbanceAt(const std::vector<Disturbance>& disturbances, double t, int* body,
+                   Eigen::Vector3d* f) {
+  *body = -1;
+  f->setZero();
+  for (const Disturbance& d : disturbances) {
+    if (d.body >= 0 && t >= d.start && t < d.start + d.duration) {
+      *body = d.body;
+      *f += d.force_W;
+    }
+  }
+}
+
+}  // namespace
+
+ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options,
+                            Controller* controller, sim::Plant* plant) {
+  CheckOptions(options);
   using Clock = std::chrono::steady_clock;
   ClosedLoopLog log;
   const double period = 1.0 / controller->options().control_rate;
@@ -83,6 +156,7 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
   const double dt = options.plant_time_step;
   const long steps = static_cast<long>(std::llround(options.duration / dt));
   const long steps_per_replan = std::max(1L, static_cast<long>(std::llround(period / dt)));
+  std::mt19937_64 rng(options.seed);
 
   // The plan in force, and the one waiting for its activation time (latency model).
   Plan active = controller->plan();
@@ -93,8 +167,10 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
   if (gains.Kd.size() == 0) gains.Kd = Eigen::VectorXd::Zero(model.nv());
   const PdController pd(model, controller->options().actuated, gains);
   Eigen::VectorXd q_d, v_d, u_ff, u = Eigen::VectorXd::Zero(model.nv());
+  Eigen::VectorXd u_last = u, q_hat, v_hat;
   // Implicit PD damping: the plant applies -Kd v at the end of each step, so the command it
-  // receives is u + Kd v_hat (the same force at v_hat).
+  // receives is u + Kd v (the plant's own v: with noise, u keeps -Kd v_hat, what the
+  // controller would apply).
   Eigen::VectorXd kd_implicit = Eigen::VectorXd::Zero(model.nv());
   if (options.implicit_damping) {
     for (int i : controller->options().actuated) kd_implicit(i) = gains.Kd(i);
@@ -104,35 +180,44 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
 
   for (long step = 0; step < steps; ++step) {
     const double t = step * dt;
-    if (step % steps_per_replan == 0 && step > 0) {
-      const Clock::time_point t0 = Clock::now();
-      const SolverSummary s = controller->Replan(t, plant->q(), plant->v());
-      const double solve = std::chrono::duration<double>(Clock::now() - t0).count();
-      log.replan_time.push_back(t);
-      log.solve_time.push_back(solve);
-      log.solve_status.push_back(static_cast<int>(s.termination));
-      if (s.termination != TerminationType::kFailure) {
-        pending = controller->plan();
-        const double delay = options.latency == LatencyModel::kSolveTime ? solve
-                             : options.latency == LatencyModel::kFixed   ? options.fixed_latency
-                                                                         : period;
-        pending_at = t + std::max(delay, dt);
-      }
-    }
+    MeasureState(model, plant->q(), plant->v(), options.sensor_noise, &rng, &q_hat, &v_hat);
+    // A plan due now takes over before a re-plan at this step replaces the pending one (a
+    // latency of exactly one control period activates at the next re-plan's step).
     if (pending_at >= 0.0 && t + 1e-12 >= pending_at) {
       active = pending;
       pending_at = -1.0;
     }
-    active.Sample(model, t, &q_d, &v_d, &u_ff);
-    pd.Compute(plant->q(), plant->v(), q_d, v_d, u_ff, &u);
-    int body = -1;
-    Eigen::Vector3d f = Eigen::Vector3d::Zero();
-    for (const Disturbance& d : options.disturbances) {
-      if (d.body >= 0 && t >= d.start && t < d.start + d.duration) {
-        body = d.body;
-        f += d.force_W;
+    if (step % steps_per_replan == 0 && step > 0) {
+      const Clock::time_point t0 = Clock::now();
+      const SolverSummary s = controller->Replan(t, q_hat, v_hat);
+      const double solve = std::chrono::duration<double>(Clock::now() - t0).count();
+      log.replan_time.push_back(t);
+      log.solve_time.push_back(solve);
+      log.solve_status.push_back(static_cast<int>(s.termination));
+      double delay = options.latency == LatencyModel::kSolveTime ? solve
+                     : options.latency == LatencyModel::kFixed   ? options.fixed_latency
+                                                                 : period;
+      if (options.latency_jitter > 0.0) delay += options.latency_jitter * UniformDraw(&rng);
+      if (s.termination == TerminationType::kFailure) {
+        // Rejected by the controller (counted there); the plan in force stays.
+      } else if (delay > period + 1e-12) {
+        ++log.num_late_plans;  // too late to be used: the plan in force stays
+      } else {
+        pending = controller->plan();
+        pending_at = t + std::max(delay, dt);
       }
     }
+    active.Sample(model, t, &q_d, &v_d, &u_ff);
+    pd.Compute(q_hat, v_hat, q_d, v_d, u_ff, &u);
+    if (u.allFinite()) {
+      u_last = u;
+    } else {
+      ++log.num_nonfinite_commands;
+      u = u_last;
+    }
+    int body = -1;
+    Eigen::Vector3d f;
+    DisturbanceAt(options.disturbances, t, &body, &f);
     if (step % options.log_every == 0) {
       log.t.push_back(t);
       log.q.push_back(plant->q());

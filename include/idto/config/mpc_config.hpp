@@ -32,6 +32,9 @@ struct MpcConfig {
 ///   duration (s, 5; at least one plant step), initial_iterations (integer >= 0, 50),
 ///   plant (mujoco|builtin; default mujoco when available), plant_time_step (s, 1e-3),
 ///   latency (solve_time|control_period|a delay in s),
+///   latency_jitter (s >= 0, default 0: each re-plan's latency plus uniform [0, jitter]),
+///   sensor_noise: {position (rad or m), velocity_relative, velocity_floor (rad/s or m/s)}
+///     (mpc::SensorNoise; default none), seed (integer >= 0, default 0: the noise and jitter),
 ///   kp, kd: a number for every DoF, a list of nv, or {default: x, joint: value or list},
 ///   relative: [joint names, or {joint: [coordinate indices within the joint]}] whose position
 ///     coordinates keep their nominal offsets from the measured state,

@@ -4,6 +4,8 @@
 /// Closed-loop simulation: an MPC Controller against a Plant, with a latency model so that the
 /// reported behaviour is achievable in real time on the machine that ran it.
 
+#include <cstdint>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -29,11 +31,38 @@ struct Disturbance {
   Eigen::Vector3d force_W{Eigen::Vector3d::Zero()};  ///< N, world frame, at the body origin
 };
 
+/// Noise on the controller's measurement (q̂, v̂) of the plant's state; the plant itself is
+/// untouched. Zero (default) everywhere: the controller sees the plant's exact state.
+struct SensorNoise {
+  /// Standard deviation of the Gaussian noise on each position coordinate (rad or m, >= 0).
+  /// The quaternion of a floating joint is instead turned by a small random rotation whose
+  /// rotation vector has this standard deviation per axis (composed on the left, so q̂ stays a
+  /// unit quaternion).
+  double position{0.0};
+  /// Relative standard deviation of the noise on each velocity coordinate (>= 0): the noise on
+  /// v_i has standard deviation max(velocity_relative |v_i|, velocity_floor).
+  double velocity_relative{0.0};
+  /// Absolute floor of that standard deviation (rad/s or m/s, >= 0), so that a coordinate at
+  /// rest is not measured exactly.
+  double velocity_floor{0.0};
+  bool enabled() const { return position > 0.0 || velocity_relative > 0.0 || velocity_floor > 0.0; }
+};
+
 struct ClosedLoopOptions {
   double duration{5.0};          ///< simulated seconds
   double plant_time_step{1e-3};  ///< s: plant steps between control updates
   LatencyModel latency{LatencyModel::kSolveTime};
   double fixed_latency{0.0};  ///< s, >= 0: the delay of LatencyModel::kFixed
+  /// s, >= 0: each re-plan's latency is the latency model's value plus a draw from
+  /// uniform [0, latency_jitter]. A re-plan whose latency exceeds the control period is late:
+  /// its plan is discarded (the previous one stays in force) and counted
+  /// (ClosedLoopLog::num_late_plans).
+  double latency_jitter{0.0};
+  /// Noise on the measured state used by the controller (re-plans and the PD+ command).
+  SensorNoise sensor_noise;
+  /// Seed of the closed loop's random numbers (sensor noise, latency jitter; std::mt19937_64):
+  /// with a fixed latency model, two runs with the same seed are bitwise identical.
+  std::uint64_t seed{0};
   std::vector<Disturbance> disturbances;
   /// The PD's -Kd v term is integrated implicitly by the plant (Plant::SetExtraDamping), the
   /// rest of u explicitly: stable at 1 ms even where Kd h / I > 2 on a light link. False: all
@@ -53,7 +82,12 @@ struct ClosedLoopLog {
   std::vector<double> replan_time;  ///< time of each re-plan, s
   std::vector<double> solve_time;   ///< wall-clock seconds of each re-plan
   std::vector<int> solve_status;    ///< TerminationType of each re-plan
-  int num_rejected_plans{0};
+  int num_rejected_plans{0};        ///< re-plans that failed or produced a non-finite plan
+  /// Re-plans whose latency (model + jitter) exceeded the control period: discarded.
+  int num_late_plans{0};
+  /// Plant steps at which the PD+ command was not finite (non-finite measurement or plan): the
+  /// last finite command (zero at the start) was applied instead.
+  int num_nonfinite_commands{0};
   double control_period{0.0};
   /// Empty unless the plant failed (threw from Advance); the run stopped at failure_time.
   std::string failure;
@@ -69,9 +103,24 @@ struct ClosedLoopLog {
   std::string ToCsv(const Model& model) const;
 };
 
+/// The controller's measurement of the plant's state (q: nq, v: nv) with `noise` drawn from
+/// `rng` (Gaussian, Box-Muller on the generator's raw 64-bit output, so the draws depend only
+/// on the seed, not on the standard library's distributions). Outputs are resized. With no
+/// noise, q_hat = q and v_hat = v and `rng` is not used.
+void MeasureState(const Model& model, const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                  const SensorNoise& noise, std::mt19937_64* rng, Eigen::VectorXd* q_hat,
+                  Eigen::VectorXd* v_hat);
+
+/// A uniform draw in [0, 1) from the raw output of `rng` (53 bits).
+double UniformDraw(std::mt19937_64* rng);
+/// A standard normal draw from `rng` (Box-Muller, two UniformDraw calls).
+double NormalDraw(std::mt19937_64* rng);
+
 /// Runs `controller` against `plant` from the plant's current state for options.duration.
 /// Re-plans every 1 / control_rate s; the PD+ command is recomputed every plant step from the
-/// plan in force (see LatencyModel). When the plant throws (e.g. MuJoCo reports an unstable
+/// plan in force (see LatencyModel), on the state measured with options.sensor_noise. A failed
+/// or late re-plan keeps the previous plan in force; a non-finite command is never applied.
+/// When the plant throws (e.g. MuJoCo reports an unstable
 /// simulation), the run stops there and the log keeps everything up to it, with the reason in
 /// ClosedLoopLog::failure.
 ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options,

@@ -1,0 +1,279 @@
+// Campaigns (examples/campaign, idto-campaign) and the closed-loop conditions they use (sensor
+// noise, latency jitter, late re-plans): a small fixed-seed spinner campaign is reproducible bit
+// for bit, different seeds draw different conditions, shards merge into the campaign, the
+// Wilson interval matches published values, and the plant's mass-scaled model is the model
+// itself at scale 1. (The command line: idto_campaign.* in examples/CMakeLists.txt.)
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "campaign/campaign.hpp"
+#include "campaign/campaign_report.hpp"
+#include "idto/config/config.hpp"
+#include "idto/config/mpc_config.hpp"
+#include "idto/core/errors.hpp"
+#include "idto/mpc/closed_loop.hpp"
+#include "idto/mpc/controller.hpp"
+#include "idto/sim/plant.hpp"
+
+namespace idto {
+namespace {
+
+using ::testing::HasSubstr;
+
+const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
+
+ExampleConfig Load(const std::string& name) {
+  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
+}
+
+TEST(Campaign, WilsonIntervalMatchesPublishedValues) {
+  // Tables of the Wilson score interval at 95% (e.g. Newcombe 1998, Table I; Brown, Cai and
+  // DasGupta 2001): 0/10 -> [0, 0.2775], 5/10 -> [0.2366, 0.7634], 10/10 -> [0.7225, 1].
+  campaign::Interval i = campaign::WilsonInterval(0, 10);
+  EXPECT_NEAR(i.low, 0.0, 1e-12);
+  EXPECT_NEAR(i.high, 0.2775, 1e-4);
+  i = campaign::WilsonInterval(5, 10);
+  EXPECT_NEAR(i.low, 0.2366, 1e-4);
+  EXPECT_NEAR(i.high, 0.7634, 1e-4);
+  i = campaign::WilsonInterval(10, 10);
+  EXPECT_NEAR(i.low, 0.7225, 1e-4);
+  EXPECT_NEAR(i.high, 1.0, 1e-12);
+  // 45 of 50: the interval is not symmetric about 0.9 (a normal interval would reach 0.983).
+  i = campaign::WilsonInterval(45, 50);
+  EXPECT_NEAR(i.low, 0.7864, 1e-4);
+  EXPECT_NEAR(i.high, 0.9565, 1e-4);
+  EXPECT_THROW(campaign::WilsonInterval(3, 2), std::invalid_argument);
+  EXPECT_THROW(campaign::WilsonInterval(-1, 2), std::invalid_argument);
+}
+
+TEST(Campaign, ScaledMassesChangeOnlyTheMasses) {
+  const ExampleConfig config = Load("quadruped");
+  const Model& model = config.model;
+  std::vector<double> scale(model.num_bodies(), 1.0);
+  sim::MujocoPlantOptions options;
+  options.pairs = config.problem.contact;
+  // At scale 1 the rebuilt model exports the same MuJoCo model, every joint, frame and shape.
+  EXPECT_EQ(sim::MakeMujocoPlantMjcf(campaign::ScaleMasses(model, scale), options),
+            sim::MakeMujocoPlantMjcf(model, options));
+  const BodyIndex body = model.GetBodyIndex("body");
+  scale[body] = 1.25;
+  const Model scaled = campaign::ScaleMasses(model, scale);
+  EXPECT_DOUBLE_EQ(scaled.body_mass(body), 1.25 * model.body_mass(body));
+  EXPECT_NEAR(scaled.total_mass() - model.total_mass(), 0.25 * model.body_mass(body), 1e-12);
+  EXPECT_EQ(scaled.nq(), model.nq());
+  EXPECT_EQ(scaled.geometries().size(), model.geometries().size());
+  scale[body] = 0.0;
+  EXPECT_THROW(campaign::ScaleMasses(model, scale), std::invalid_argument);
+}
+
+TEST(Campaign, DifferentSeedsDrawDifferentConditions) {
+  const ExampleConfig config = Load("spinner");
+  const campaign::CampaignSettings settings = campaign::DefaultSettings("spinner");
+  const campaign::RunConditions a = campaign::DrawConditions(settings, config, 7);
+  const campaign::RunConditions b = campaign::DrawConditions(settings, config, 8);
+  const campaign::RunConditions a2 = campaign::DrawConditions(settings, config, 7);
+  EXPECT_EQ(a.push_time, a2.push_time);
+  EXPECT_EQ(a.mass_scale, a2.mass_scale);
+  EXPECT_NE(a.push_time, b.push_time);
+  EXPECT_NE(a.push_impulse, b.push_impulse);
+  EXPECT_NE(a.friction_scale, b.friction_scale);
+  EXPECT_NE(a.mass_scale, b.mass_scale);
+  // Within the settings' ranges (5 s run, 0.5 N s, +-30%).
+  for (const campaign::RunConditions& c : {a, b}) {
+    EXPECT_GE(c.push_time, 0.5);
+    EXPECT_LE(c.push_time, 3.8);
+    EXPECT_LE(c.push_impulse, 0.5);
+    EXPECT_GE(c.friction_scale, 0.7);
+    EXPECT_LE(c.friction_scale, 1.3);
+  }
+  EXPECT_THROW(campaign::DefaultSettings("pendulum"), std::invalid_argument);
+}
+
+/// Three spinner runs of the campaign with seed 21 (about a second in all).
+std::vector<campaign::RunResult> SpinnerRuns(const ExampleConfig& config,
+                                             const campaign::CampaignSettings& settings) {
+  std::vector<campaign::RunResult> runs;
+  for (int i = 0; i < 3; ++i) runs.push_back(campaign::RunOne(settings, config, i, 21 + i));
+  return runs;
+}
+
+TEST(Campaign, SpinnerCampaignIsReproducibleAndMerges) {
+  if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
+  const ExampleConfig config = Load("spinner");
+  const campaign::CampaignSettings settings = campaign::DefaultSettings("spinner");
+  const std::vector<campaign::RunResult> runs = SpinnerRuns(config, settings);
+  const std::string json = campaign::CampaignJson(settings, runs);
+  EXPECT_EQ(campaign::CampaignJson(settings, SpinnerRuns(config, settings)), json);
+  // The runs differ from each other (conditions and outcome measures).
+  EXPECT_NE(runs[0].conditions.push_time, runs[1].conditions.push_time);
+  ASSERT_FALSE(runs[0].metrics.empty());
+  EXPECT_NE(runs[0].metrics[0].values, runs[1].metrics[0].values);
+  for (const campaign::RunResult& r : runs) {
+    EXPECT_GT(r.num_replans, 900);  // 200 Hz over 5 s
+    EXPECT_EQ(r.nonfinite_commands, 0);
+    EXPECT_EQ(r.plant_failure, "");
+    EXPECT_EQ(r.success, r.failure_mode.empty());
+  }
+  // Two shards (runs 0 and 2 in one, 1 in the other) merge into the same campaign file.
+  const std::string shard_a = campaign::CampaignJson(settings, {runs[2], runs[0]});
+  const std::string shard_b = campaign::CampaignJson(settings, {runs[1]});
+  campaign::CampaignSettings merged_settings;
+  std::vector<campaign::RunResult> merged;
+  campaign::MergeCampaigns({shard_a, shard_b}, {"a.json", "b.json"}, &merged_settings, &merged);
+  EXPECT_EQ(campaign::CampaignJson(merged_settings, merged), json);
+  // The same run twice, or shards of different campaigns, are refused naming the file.
+  EXPECT_THAT(
+      [&] {
+        campaign::MergeCampaigns({shard_a, shard_a}, {"a.json", "c.json"}, &merged_settings,
+                                 &merged);
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("c.json: run 2")));
+  campaign::CampaignSettings other = settings;
+  other.max_impulse = 1.0;
+  EXPECT_THAT(
+      [&] {
+        campaign::MergeCampaigns({shard_a, campaign::CampaignJson(other, {runs[1]})},
+                                 {"a.json", "d.json"}, &merged_settings, &merged);
+      },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("d.json: its settings")));
+  EXPECT_THAT(
+      [&] { campaign::MergeCampaigns({"{\"runs\": []}"}, {"e.json"}, &merged_settings, &merged); },
+      ::testing::ThrowsMessage<std::runtime_error>(HasSubstr("e.json")));
+  // The report counts what the runs say.
+  const std::string markdown = campaign::CampaignMarkdown(settings, runs);
+  int successes = 0;
+  for (const campaign::RunResult& r : runs) successes += r.success ? 1 : 0;
+  EXPECT_THAT(markdown, HasSubstr(std::to_string(successes) + " of 3 runs succeeded"));
+}
+
+TEST(ClosedLoopConditions, MeasuredStateIsNoisyButValid) {
+  const ExampleConfig config = Load("quadruped");
+  const Model& model = config.model;
+  const Eigen::VectorXd q = config.problem.q_init;
+  const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(model.nv(), -2.0, 2.0);
+  std::mt19937_64 rng(3);
+  Eigen::VectorXd q_hat, v_hat;
+  mpc::MeasureState(model, q, v, mpc::SensorNoise{}, &rng, &q_hat, &v_hat);
+  EXPECT_EQ(q_hat, q);
+  EXPECT_EQ(v_hat, v);
+  const mpc::SensorNoise noise{1e-3, 0.02, 1e-3};
+  const int n = 2000;
+  double sum_q = 0.0, sum_v = 0.0;
+  for (int k = 0; k < n; ++k) {
+    mpc::MeasureState(model, q, v, noise, &rng, &q_hat, &v_hat);
+    EXPECT_NEAR(q_hat.head<4>().norm(), 1.0, 1e-14);
+    const double dq = q_hat(7) - q(7);  // first leg joint, rad
+    sum_q += dq * dq;
+    const int last = model.nv() - 1;  // |v| = 2: standard deviation 0.04
+    sum_v += (v_hat(last) - v(last)) * (v_hat(last) - v(last));
+  }
+  EXPECT_NEAR(std::sqrt(sum_q / n), 1e-3, 1e-4);
+  EXPECT_NEAR(std::sqrt(sum_v / n), 0.04, 4e-3);
+}
+
+/// The spinner against the built-in plant for 0.3 s with the given closed-loop options.
+mpc::ClosedLoopLog RunSpinner(const mpc::ClosedLoopOptions& cl) {
+  const ExampleConfig config = Load("spinner");
+  const MpcConfig mpc = ParseMpcConfig(config);
+  std::unique_ptr<sim::Plant> plant = sim::MakeBuiltinPlant(config.model, mpc.builtin);
+  plant->Reset(config.problem.q_init, config.problem.v_init);
+  mpc::Controller controller(config.model, config.problem, config.solver, mpc.controller);
+  controller.Initialize(MakeInitialGuess(config), 20);
+  return mpc::RunClosedLoop(config.model, cl, &controller, plant.get());
+}
+
+TEST(ClosedLoopConditions, NoiseAndJitterAreReproducibleFromTheSeed) {
+  mpc::ClosedLoopOptions cl;
+  cl.duration = 0.3;
+  cl.latency = mpc::LatencyModel::kFixed;
+  cl.fixed_latency = 1e-3;
+  cl.log_every = 1;
+  const mpc::ClosedLoopLog quiet = RunSpinner(cl);
+  cl.sensor_noise = {1e-3, 0.02, 1e-3};
+  cl.latency_jitter = 2e-3;
+  cl.seed = 5;
+  const mpc::ClosedLoopLog a = RunSpinner(cl);
+  const mpc::ClosedLoopLog b = RunSpinner(cl);
+  cl.seed = 6;
+  const mpc::ClosedLoopLog c = RunSpinner(cl);
+  ASSERT_EQ(a.q.size(), b.q.size());
+  for (size_t k = 0; k < a.q.size(); ++k) {
+    ASSERT_EQ(a.q[k], b.q[k]) << k;
+    ASSERT_EQ(a.u[k], b.u[k]) << k;
+  }
+  EXPECT_NE(a.u.back(), c.u.back());
+  EXPECT_NE(a.u.back(), quiet.u.back());
+  // 1 ms + up to 2 ms is within the 5 ms period: nothing late, nothing rejected.
+  EXPECT_EQ(a.num_late_plans, 0);
+  EXPECT_EQ(a.num_rejected_plans, 0);
+  EXPECT_EQ(a.num_nonfinite_commands, 0);
+}
+
+TEST(ClosedLoopConditions, LatePlansAreDiscardedAndCounted) {
+  mpc::ClosedLoopOptions cl;
+  cl.duration = 0.1;
+  cl.latency = mpc::LatencyModel::kFixed;
+  cl.log_every = 1;
+  cl.fixed_latency = 4e-3;
+  cl.latency_jitter = 2e-3;  // late when the draw exceeds 1 ms: about half the re-plans
+  cl.seed = 1;
+  const mpc::ClosedLoopLog some = RunSpinner(cl);
+  EXPECT_GT(some.num_late_plans, 0);
+  EXPECT_LT(some.num_late_plans, static_cast<int>(some.solve_time.size()));
+  cl.fixed_latency = 6e-3;  // beyond the 5 ms period: every plan is late
+  const mpc::ClosedLoopLog all = RunSpinner(cl);
+  EXPECT_EQ(all.num_late_plans, static_cast<int>(all.solve_time.size()));
+  // So the initial plan stays in force: the PD target is the initial plan's throughout.
+  const ExampleConfig config = Load("spinner");
+  mpc::Controller controller(config.model, config.problem, config.solver,
+                             ParseMpcConfig(config).controller);
+  controller.Initialize(MakeInitialGuess(config), 20);
+  Eigen::VectorXd q_d, v_d, u_ff;
+  for (size_t k = 0; k < all.t.size(); k += 10) {
+    controller.plan().Sample(config.model, all.t[k], &q_d, &v_d, &u_ff);
+    ASSERT_EQ(all.q_plan[k], q_d) << "t = " << all.t[k];
+  }
+}
+
+/// The spinner's file with `lines` as its `mpc:` section.
+ExampleConfig LoadSpinnerWithMpc(const std::string& lines) {
+  const std::string dir = std::string(IDTO_SOURCE_DIR) + "/examples/spinner";
+  std::ifstream in(dir + "/spinner.yaml");
+  std::ostringstream text;
+  text << in.rdbuf();
+  const std::string before = text.str().substr(0, text.str().find("\nmpc:") + 1);
+  return LoadExampleConfigString(before + "mpc:\n" + lines, "spinner.yaml", dir, kShareDirs);
+}
+
+TEST(ClosedLoopConditions, MpcSectionReadsNoiseJitterAndSeed) {
+  EXPECT_FALSE(ParseMpcConfig(Load("spinner")).closed_loop.sensor_noise.enabled());
+  EXPECT_EQ(ParseMpcConfig(Load("spinner")).closed_loop.latency_jitter, 0.0);
+  const ExampleConfig config = LoadSpinnerWithMpc(
+      "  latency_jitter: 0.002\n  seed: 42\n"
+      "  sensor_noise: {position: 0.001, velocity_relative: 0.02, velocity_floor: 0.003}\n");
+  const mpc::ClosedLoopOptions& cl = ParseMpcConfig(config).closed_loop;
+  EXPECT_EQ(cl.latency_jitter, 0.002);
+  EXPECT_EQ(cl.seed, 42u);
+  EXPECT_EQ(cl.sensor_noise.position, 0.001);
+  EXPECT_EQ(cl.sensor_noise.velocity_relative, 0.02);
+  EXPECT_EQ(cl.sensor_noise.velocity_floor, 0.003);
+  EXPECT_THAT([] { LoadSpinnerWithMpc("  latency_jitter: -1\n"); },
+              ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.latency_jitter")));
+  EXPECT_THAT([] { LoadSpinnerWithMpc("  sensor_noise: {angle: 1}\n"); },
+              ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.sensor_noise.angle")));
+  EXPECT_THAT([] { LoadSpinnerWithMpc("  seed: 1.5\n"); },
+              ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.seed")));
+}
+
+}  // namespace
+}  // namespace idto

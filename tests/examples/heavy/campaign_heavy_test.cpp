@@ -1,0 +1,46 @@
+// Heavy (ctest label "heavy"): the spinner and quadruped campaigns of docs/mpc.md ("Campaigns"),
+// 50 runs each with the default hard conditions and seed 1, in process. The runs are
+// reproducible, so the counts are those of the table; the thresholds below sit under them so
+// that a regression of the controller (or of the campaign's conditions) fails here.
+
+#include <gtest/gtest.h>
+
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "campaign/campaign.hpp"
+#include "campaign/campaign_report.hpp"
+#include "idto/config/config.hpp"
+#include "idto/sim/plant.hpp"
+
+namespace idto {
+namespace {
+
+int CampaignSuccesses(const std::string& name, int runs, std::uint64_t seed) {
+  const std::vector<std::string> share_dirs = {IDTO_SOURCE_DIR};
+  const ExampleConfig config = LoadExampleConfig(FindExampleConfig(name, share_dirs), share_dirs);
+  const campaign::CampaignSettings settings = campaign::DefaultSettings(name);
+  std::vector<campaign::RunResult> results;
+  int successes = 0;
+  for (int i = 0; i < runs; ++i) {
+    results.push_back(campaign::RunOne(settings, config, i, seed + i));
+    successes += results.back().success ? 1 : 0;
+    EXPECT_EQ(results.back().nonfinite_commands, 0) << name << " run " << i;
+  }
+  std::cout << campaign::CampaignMarkdown(settings, results);
+  return successes;
+}
+
+TEST(CampaignHeavy, Spinner50Runs) {
+  if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
+  EXPECT_GE(CampaignSuccesses("spinner", 50, 1), 20);
+}
+
+TEST(CampaignHeavy, Quadruped50Runs) {
+  if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
+  EXPECT_GE(CampaignSuccesses("quadruped", 50, 1), 22);
+}
+
+}  // namespace
+}  // namespace idto
