@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "idto/core/errors.hpp"
+#include "run/json_text.hpp"
 
 namespace idto::campaign {
 namespace {
@@ -25,22 +26,7 @@ std::string Num(double x) {
   return buffer;
 }
 
-std::string Quote(const std::string& s) {
-  std::string out = "\"";
-  for (unsigned char c : s) {
-    if (c == '"' || c == '\\') {
-      out += '\\';
-      out += static_cast<char>(c);
-    } else if (c < 0x20) {
-      char buffer[8];
-      std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-      out += buffer;
-    } else {
-      out += static_cast<char>(c);
-    }
-  }
-  return out + "\"";
-}
+std::string Quote(const std::string& s) { return idto::examples::JsonQuote(s); }
 
 std::string NumList(const std::vector<double>& xs) {
   std::string out = "[";

@@ -43,6 +43,7 @@
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "idto/viz/html_animation.hpp"
 #include "idto_build_paths.hpp"
+#include "run/json_text.hpp"
 #include "run/metrics.hpp"
 #include "run/metrics_closed_loop.hpp"
 #include "run/outputs.hpp"
@@ -279,43 +280,7 @@ class JsonWriter {
     NumberArray(std::vector<double>(x.data(), x.data() + x.size()));
   }
 
-  static std::string Quote(const std::string& s) {
-    std::string out = "\"";
-    for (unsigned char c : s) {
-      switch (c) {
-        case '"':
-          out += "\\\"";
-          break;
-        case '\\':
-          out += "\\\\";
-          break;
-        case '\b':
-          out += "\\b";
-          break;
-        case '\f':
-          out += "\\f";
-          break;
-        case '\n':
-          out += "\\n";
-          break;
-        case '\r':
-          out += "\\r";
-          break;
-        case '\t':
-          out += "\\t";
-          break;
-        default:
-          if (c < 0x20) {
-            char buffer[8];
-            std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-            out += buffer;
-          } else {
-            out += static_cast<char>(c);
-          }
-      }
-    }
-    return out + "\"";
-  }
+  static std::string Quote(const std::string& s) { return idto::examples::JsonQuote(s); }
 
   static std::string FormatNumber(double x) {
     if (!std::isfinite(x)) return "null";

@@ -433,7 +433,8 @@ TEST(BuiltinPlant, QuadrupedStandsUnderPdControl) {
   // (feet with an apparent mass of 9 g) stays stable at 1 ms and the robot comes to rest.
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand)) GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  if (!QuadrupedModel(&model, &q_stand))
+    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
   q_stand(6) += 0.01;
   BuiltinPlantOptions options;
   options.pairs.included_pairs = {{"ground", "*"}};
@@ -461,7 +462,8 @@ TEST(BuiltinPlant, ExplicitSchemeDivergesOnTheQuadrupedAndSaysSo) {
   // explicit stability limit at 1 ms. The plant throws and keeps the last finite state.
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand)) GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  if (!QuadrupedModel(&model, &q_stand))
+    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
   q_stand(6) += 0.01;
   BuiltinPlantOptions options;
   options.implicit_contact = false;
@@ -495,7 +497,8 @@ TEST(BuiltinPlant, AdvanceDoesNotAllocate) {
   if (!test::AllocationCountingAvailable()) GTEST_SKIP() << "malloc is owned by a sanitizer";
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand)) GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  if (!QuadrupedModel(&model, &q_stand))
+    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
   for (const bool implicit : {true, false}) {
     BuiltinPlantOptions options;
     options.implicit_contact = implicit;
@@ -898,7 +901,8 @@ TEST(MujocoPlant, DisturbancePushesTheBallAlongTheForce) {
 TEST(MujocoPlant, QuadrupedStandsUnderPdControl) {
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand)) GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  if (!QuadrupedModel(&model, &q_stand))
+    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
   MujocoPlantOptions options;
   options.pairs.included_pairs = {{"ground", "*"}};
   std::unique_ptr<Plant> plant = sim::MakeMujocoPlant(model, options);
@@ -920,7 +924,8 @@ TEST(MujocoPlant, AdvanceDoesNotAllocate) {
   if (!test::AllocationCountingAvailable()) GTEST_SKIP() << "malloc is owned by a sanitizer";
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand)) GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  if (!QuadrupedModel(&model, &q_stand))
+    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
   std::unique_ptr<Plant> plant = sim::MakeMujocoPlant(model, {});
   plant->Reset(q_stand, Eigen::VectorXd::Zero(model.nv()));
   const Eigen::VectorXd u = Eigen::VectorXd::Constant(model.nv(), 0.1);
