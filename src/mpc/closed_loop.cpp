@@ -86,10 +86,8 @@ void MeasureState(const Model& model, const Eigen::VectorXd& q, const Eigen::Vec
   *v_hat = v;
   if (!noise.enabled()) return;
   if (noise.position > 0.0) {
-    std::vector<bool> is_quaternion(model.nq(), false);
     for (JointIndex j : model.floating_joints()) {
       const int s = model.position_start(j);
-      for (int k = 0; k < 4; ++k) is_quaternion[s + k] = true;
       Eigen::Vector3d rotation;
       for (int k = 0; k < 3; ++k) rotation(k) = noise.position * NormalDraw(rng);
       const double angle = rotation.norm();
@@ -100,8 +98,14 @@ void MeasureState(const Model& model, const Eigen::VectorXd& q, const Eigen::Vec
           (turn * Eigen::Quaterniond(q(s), q(s + 1), q(s + 2), q(s + 3))).normalized();
       q_hat->segment<4>(s) << measured.w(), measured.x(), measured.y(), measured.z();
     }
+    // Every other coordinate (no allocation: the floating joints are few).
     for (int i = 0; i < model.nq(); ++i) {
-      if (!is_quaternion[i]) (*q_hat)(i) += noise.position * NormalDraw(rng);
+      bool quaternion = false;
+      for (JointIndex j : model.floating_joints()) {
+        const int s = model.position_start(j);
+        quaternion = quaternion || (i >= s && i < s + 4);
+      }
+      if (!quaternion) (*q_hat)(i) += noise.position * NormalDraw(rng);
     }
   }
   if (noise.velocity_relative > 0.0 || noise.velocity_floor > 0.0) {
