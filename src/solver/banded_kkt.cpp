@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "idto/core/errors.hpp"
-#include "math/cholesky_in_place.hpp"
+#include "math/small_dense.hpp"
 
 namespace idto {
 
@@ -154,58 +154,67 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
   Vt1_.assign(num_steps_, mm);
   Vt2_.assign(num_steps_, mm);
   F_.assign(num_steps_, mm);
-  K2_ = mm;
-  K1_ = mm;
-  U1t_ = mm;
-  SVt_ = mm;
-  D_ = mm;
+  T1_ = mm;
+  T2_ = mm;
+  diagonal_ = Eigen::VectorXd::Zero(m_);
+  inverse_diagonal_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_steps_) * m_);
   z_ = Eigen::VectorXd::Zero(num_steps_ * m_);
   rp_ = Eigen::VectorXd::Zero(num_steps_ * n_);
   dp_ = rp_;
   rl_ = Eigen::VectorXd::Zero(num_steps_ * nu_);
   dl_ = rl_;
   work_m_ = Eigen::VectorXd::Zero(m_);
-  extended_.assign(std::max(n_, nu_), 0.0L);
+  extended_hi_ = Eigen::VectorXd::Zero(std::max(n_, nu_));
+  extended_lo_ = extended_hi_;
   status_ = KktStatus{};
   H_ = nullptr;
   A_ = nullptr;
 }
 
-bool BandedKktSolver::FactorPivot(int r, const Eigen::MatrixXd& D) {
-  // D = [P Qᵀ; Q R] = F Σ Fᵀ, F = [Lp 0; Y Ls]: P = Lp Lpᵀ, Y = Q Lp⁻ᵀ, −S = Y Yᵀ − R = Ls Lsᵀ
-  // (S the Schur complement of P in D).
+bool BandedKktSolver::FactorPivot(int r) {
+  // F holds D_r's lower triangle, D = [P Qᵀ; Q R] = F Σ Fᵀ with F = [Lp 0; Y Ls]: the first n
+  // columns of a right-looking Cholesky give P = Lp Lpᵀ, Y = Q Lp⁻ᵀ and leave the Schur
+  // complement S = R − Y Yᵀ in the trailing block; its negation −S = Ls Lsᵀ.
   Eigen::MatrixXd& F = F_[r];
-  auto Lp = F.topLeftCorner(n_, n_);
-  Lp = D.topLeftCorner(n_, n_);
+  const int m = m_;
+  double* f = F.data();
+  for (int i = 0; i < n_; ++i) diagonal_[i] = F(i, i);
   double relative = 0.0;
-  int row = internal::CholeskyLowerInPlace(0.0, Lp, &relative);
+  double* inverse = inverse_diagonal_.data() + static_cast<long>(r) * m;
+  int row =
+      internal::CholeskyColumnsInPlace(0.0, diagonal_.data(), m, 0, n_, f, m, inverse, &relative);
   if (row >= 0) {
     status_ = {KktStatus::Code::kHessianNotPositiveDefinite, r, row, relative};
     return false;
   }
-  if (nu_ == 0) return true;
-  F.topRightCorner(n_, nu_).setZero();
-  auto Y = F.bottomLeftCorner(nu_, n_);
-  Y = D.bottomLeftCorner(nu_, n_);
-  Lp.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(Y);
-  auto Ls = F.bottomRightCorner(nu_, nu_);
-  Ls = -D.bottomRightCorner(nu_, nu_);
-  Ls.noalias() += Y * Y.transpose();
-  row = internal::CholeskyLowerInPlace(rank_tolerance_, Ls, &relative);
+  // The rank test's scale for constraint row u: its squared norm in the metric of H⁻¹ (the sum
+  // of the positive contributions to −S's diagonal, |Y_u|² here and the p-parts of the earlier
+  // blocks in Factor), so d / scale is the squared sine of the row's angle with the span of the
+  // rows before it. (−S's own diagonal is no scale: for a dependent row it is round-off itself.)
+  for (int j = n_; j < m; ++j) {
+    for (int i = j; i < m; ++i) F(i, j) = -F(i, j);
+    diagonal_[j] += F.row(j).head(n_).squaredNorm();
+  }
+  row = internal::CholeskyColumnsInPlace(rank_tolerance_, diagonal_.data(), m, n_, m, f, m, inverse,
+                                         &relative);
   if (row >= 0) {
-    status_ = {KktStatus::Code::kConstraintsRankDeficient, r, row, relative};
+    status_ = {KktStatus::Code::kConstraintsRankDeficient, r, row - n_, relative};
     return false;
   }
+  F.triangularView<Eigen::StrictlyUpper>().setZero();
   return true;
 }
 
-void BandedKktSolver::AssembleOffDiagonal(int r, int c, Eigen::MatrixXd* K) const {
-  // Rows (p_r, λ_r), columns (p_c, λ_c), c < r: H(r, c) and ∂h_r/∂q_{c+1}; the columns of λ_c
-  // are zero because h_c does not involve q_{r+1} for r > c.
-  K->topLeftCorner(n_, n_) = c == r - 1 ? H_->B(r) : H_->A(r);
-  K->topRightCorner(n_, nu_).setZero();
-  K->bottomLeftCorner(nu_, n_) = A_->Block(r, c + 1);
-  K->bottomRightCorner(nu_, nu_).setZero();
+void BandedKktSolver::AddConstraintScale(const Eigen::MatrixXd& Vt) {
+  for (int u = 0; u < nu_; ++u) diagonal_[n_ + u] += Vt.col(n_ + u).head(n_).squaredNorm();
+}
+
+void BandedKktSolver::AssembleOffDiagonalTransposed(int r, int c, Eigen::MatrixXd* Kt) const {
+  // K(r, c)ᵀ: rows (p_c, λ_c), columns (p_r, λ_r), c < r: H(r, c)ᵀ and ∂h_r/∂q_{c+1}ᵀ; the rows
+  // of λ_c are zero because h_c does not involve q_{r+1} for r > c.
+  Kt->topLeftCorner(n_, n_) = (c == r - 1 ? H_->B(r) : H_->A(r)).transpose();
+  Kt->topRightCorner(n_, nu_) = A_->Block(r, c + 1).transpose();
+  Kt->bottomRows(nu_).setZero();
 }
 
 KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConstraintJacobian& A) {
@@ -231,34 +240,40 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
   // K(r, r−2) and K(r, r−1) are the only blocks left of the diagonal and there is no fill-in
   // below r − 2, so U(r, r−2) = K(r, r−2). The same pivots as a block LDLᵀ (D_r = F_r Σ F_rᵀ),
   // but each off-diagonal block costs one triangular solve with F_c instead of a solve with D_c.
-  // D_r is symmetric: only its lower triangle is formed and read.
+  // D_r is symmetric: only its lower triangle is formed (in F_[r]) and read. The products go
+  // through internal:: kernels (src/math/small_dense.hpp); Vᵀ's transposes Tt_ turn the
+  // Σ-weighted products into column updates.
+  const int m = m_;
   for (int r = 0; r < num_steps_; ++r) {
-    D_.topLeftCorner(n_, n_) = H.C(r);
-    D_.bottomLeftCorner(nu_, n_) = A.Block(r, r + 1);
-    D_.bottomRightCorner(nu_, nu_).setZero();
-    auto D_lower = D_.triangularView<Eigen::Lower>();
+    Eigen::MatrixXd& D = F_[r];
+    D.topLeftCorner(n_, n_) = H.C(r);
+    D.bottomLeftCorner(nu_, n_) = A.Block(r, r + 1);
+    D.bottomRightCorner(nu_, nu_).setZero();
+    diagonal_.tail(nu_).setZero();
     if (r >= 2) {
-      AssembleOffDiagonal(r, r - 2, &K2_);
+      // Vt2 = F_{r−2}⁻¹ K(r, r−2)ᵀ; D −= Vt2ᵀ Σ Vt2.
       Eigen::MatrixXd& Vt2 = Vt2_[r];
-      Vt2 = K2_.transpose();
-      F_[r - 2].triangularView<Eigen::Lower>().solveInPlace(Vt2);
-      SVt_ = Vt2;
-      SVt_.bottomRows(nu_) *= -1.0;
-      D_lower -= Vt2.transpose() * SVt_;
+      AssembleOffDiagonalTransposed(r, r - 2, &Vt2);
+      internal::LowerSolveInPlace(F_[r - 2].data(), m, InverseDiagonal(r - 2), m, Vt2.data(), m, m);
+      AddConstraintScale(Vt2);
+      internal::Transpose(Vt2.data(), m, m, m, T2_.data(), m);
+      internal::SubtractSignedProduct(T2_.data(), m, Vt2.data(), m, m, m, m, n_, true, D.data(), m);
     }
     if (r >= 1) {
-      AssembleOffDiagonal(r, r - 1, &K1_);
-      U1t_ = K1_.transpose();
-      // U(r, r−1)ᵀ = K(r, r−1)ᵀ − V(r−1, r−2) Σ V(r, r−2)ᵀ (SVt_ holds Σ V(r, r−2)ᵀ).
-      if (r >= 2) U1t_.noalias() -= Vt1_[r - 1].transpose() * SVt_;
+      // U(r, r−1)ᵀ = K(r, r−1)ᵀ − V(r−1, r−2) Σ V(r, r−2)ᵀ, with T1_ = Vt1_[r−1]ᵀ;
+      // Vt1 = F_{r−1}⁻¹ U(r, r−1)ᵀ; D −= Vt1ᵀ Σ Vt1.
       Eigen::MatrixXd& Vt1 = Vt1_[r];
-      Vt1 = U1t_;
-      F_[r - 1].triangularView<Eigen::Lower>().solveInPlace(Vt1);
-      SVt_ = Vt1;
-      SVt_.bottomRows(nu_) *= -1.0;
-      D_lower -= Vt1.transpose() * SVt_;
+      AssembleOffDiagonalTransposed(r, r - 1, &Vt1);
+      if (r >= 2) {
+        internal::SubtractSignedProduct(T1_.data(), m, Vt2_[r].data(), m, m, m, m, n_, false,
+                                        Vt1.data(), m);
+      }
+      internal::LowerSolveInPlace(F_[r - 1].data(), m, InverseDiagonal(r - 1), m, Vt1.data(), m, m);
+      AddConstraintScale(Vt1);
+      internal::Transpose(Vt1.data(), m, m, m, T1_.data(), m);
+      internal::SubtractSignedProduct(T1_.data(), m, Vt1.data(), m, m, m, m, n_, true, D.data(), m);
     }
-    if (!FactorPivot(r, D_)) return status_;
+    if (!FactorPivot(r)) return status_;
   }
   status_ = {KktStatus::Code::kSuccess, -1, -1, 0.0};
   return status_;
@@ -266,24 +281,27 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
 
 void BandedKktSolver::SolveInterleavedInPlace() {
   const int m = m_;
+  double* z = z_.data();
   // Forward: G y = b, stored as z_r = Σ y_r with y_r = F_r⁻¹ (b_r − Σ_{c<r} V(r, c) z_c).
   for (int r = 0; r < num_steps_; ++r) {
-    auto zr = z_.segment(r * m, m);
-    if (r >= 1) zr.noalias() -= Vt1_[r].transpose() * z_.segment((r - 1) * m, m);
-    if (r >= 2) zr.noalias() -= Vt2_[r].transpose() * z_.segment((r - 2) * m, m);
-    F_[r].triangularView<Eigen::Lower>().solveInPlace(zr);
-    zr.tail(nu_) *= -1.0;
+    double* zr = z + static_cast<long>(r) * m;
+    if (r >= 1) internal::SubtractTransposeTimes(Vt1_[r].data(), m, m, m, zr - m, zr);
+    if (r >= 2) internal::SubtractTransposeTimes(Vt2_[r].data(), m, m, m, zr - 2 * m, zr);
+    internal::LowerSolveInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr, m, 1);
+    for (int i = n_; i < m; ++i) zr[i] = -zr[i];
   }
   // Backward: Gᵀ x = z, x_r = F_r⁻ᵀ (z_r − Σ Σ_{c>r} V(c, r)ᵀ x_c).
+  double* w = work_m_.data();
   for (int r = num_steps_ - 1; r >= 0; --r) {
-    auto zr = z_.segment(r * m, m);
+    double* zr = z + static_cast<long>(r) * m;
     if (r + 1 < num_steps_) {
-      work_m_.noalias() = Vt1_[r + 1] * z_.segment((r + 1) * m, m);
-      if (r + 2 < num_steps_) work_m_.noalias() += Vt2_[r + 2] * z_.segment((r + 2) * m, m);
-      work_m_.tail(nu_) *= -1.0;
-      zr -= work_m_;
+      std::fill(w, w + m, 0.0);
+      internal::AddTimes(Vt1_[r + 1].data(), m, m, m, zr + m, w);
+      if (r + 2 < num_steps_) internal::AddTimes(Vt2_[r + 2].data(), m, m, m, zr + 2 * m, w);
+      for (int i = 0; i < n_; ++i) zr[i] -= w[i];
+      for (int i = n_; i < m; ++i) zr[i] += w[i];
     }
-    F_[r].triangularView<Eigen::Lower>().transpose().solveInPlace(zr);
+    internal::LowerTransposeSolveInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr);
   }
 }
 
@@ -312,7 +330,10 @@ void BandedKktSolver::Solve(const Eigen::VectorXd& g, const Eigen::VectorXd& h, 
     return;
   }
   SolveOnce(g, h, p, lambda);
-  for (int i = 0; i < refinement_steps_; ++i) {
+  // With the extended residual a second step pays: the first one's correction is only as good
+  // as the factorization's contraction (κ ε growth), the residual no longer limits it.
+  const int steps = extended_residual_ ? std::max(refinement_steps_, 2) : refinement_steps_;
+  for (int i = 0; i < steps; ++i) {
     // K d = r with r = −[g; h] − K x: SolveOnce(−r) gives d.
     Residual(g, h, *p, *lambda, &rp_, &rl_);
     rp_ = -rp_;
@@ -341,22 +362,26 @@ void BandedKktSolver::Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& 
     *rl = -*rl - h;
     return;
   }
-  // Accumulated in long double (a 64-bit significand on x86-64) and rounded once: the
-  // refinement then corrects the error that the conditioning of K puts into the double solve,
-  // not only the round-off of the factorization (docs/solver.md, "Accuracy"). Every loop runs
-  // along a stored column.
+  // Accumulated exactly enough in double-double arithmetic (each product split exactly by an
+  // fma, each sum by TwoSum) and rounded once: the refinement then corrects the error that the
+  // conditioning of K (up to ~1e10 on the examples) puts into the double solve, not only the
+  // factorization's round-off (docs/solver.md, "Accuracy"). Every loop runs along a stored column.
   if (rp->size() != N * n) rp->resize(N * n);
   if (rl->size() != N * nu) rl->resize(N * nu);
-  long double* acc = extended_.data();
+  double* hi = extended_hi_.data();
+  double* lo = extended_lo_.data();
   for (int r = 0; r < N; ++r) {
-    for (int i = 0; i < n; ++i) acc[i] = -static_cast<long double>(g(r * n + i));
+    for (int i = 0; i < n; ++i) {
+      hi[i] = -g(r * n + i);
+      lo[i] = 0.0;
+    }
     // Blocks left of the diagonal and the diagonal one, H(r, c) = A(r), B(r), C(r): by columns.
     for (int c = std::max(0, r - 2); c <= r; ++c) {
       const Eigen::MatrixXd& M = c == r ? H.C(r) : (c == r - 1 ? H.B(r) : H.A(r));
       for (int j = 0; j < n; ++j) {
-        const long double pj = p(c * n + j);
+        const double pj = p(c * n + j);
         const double* column = M.col(j).data();
-        for (int i = 0; i < n; ++i) acc[i] -= column[i] * pj;
+        for (int i = 0; i < n; ++i) internal::SubtractProductExactly(column[i], pj, &hi[i], &lo[i]);
       }
     }
     // Right of the diagonal, H(r, c) = M(c)ᵀ: row i of it is column i of M(c).
@@ -365,9 +390,8 @@ void BandedKktSolver::Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& 
       const double* pc = p.data() + c * n;
       for (int i = 0; i < n; ++i) {
         const double* column = M.col(i).data();
-        long double sum = 0.0L;
-        for (int j = 0; j < n; ++j) sum += static_cast<long double>(column[j]) * pc[j];
-        acc[i] -= sum;
+        for (int j = 0; j < n; ++j)
+          internal::SubtractProductExactly(column[j], pc[j], &hi[i], &lo[i]);
       }
     }
     // Aᵀλ: the constraints h_j that involve q_{r+1}; row i of J(j, r+1)ᵀ is its column i.
@@ -376,22 +400,27 @@ void BandedKktSolver::Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& 
       const double* l = lambda.data() + j * nu;
       for (int i = 0; i < n; ++i) {
         const double* column = J.col(i).data();
-        for (int u = 0; u < nu; ++u) acc[i] -= static_cast<long double>(column[u]) * l[u];
+        for (int u = 0; u < nu; ++u)
+          internal::SubtractProductExactly(column[u], l[u], &hi[i], &lo[i]);
       }
     }
-    for (int i = 0; i < n; ++i) (*rp)(r * n + i) = static_cast<double>(acc[i]);
+    for (int i = 0; i < n; ++i) (*rp)(r * n + i) = hi[i] + lo[i];
   }
   for (int j = 0; j < N; ++j) {
-    for (int u = 0; u < nu; ++u) acc[u] = -static_cast<long double>(h(j * nu + u));
+    for (int u = 0; u < nu; ++u) {
+      hi[u] = -h(j * nu + u);
+      lo[u] = 0.0;
+    }
     for (int s = std::max(1, j - 1); s <= std::min(N, j + 1); ++s) {
       const Eigen::MatrixXd& J = A.Block(j, s);
       for (int i = 0; i < n; ++i) {
-        const long double pi = p((s - 1) * n + i);
+        const double pi = p((s - 1) * n + i);
         const double* column = J.col(i).data();
-        for (int u = 0; u < nu; ++u) acc[u] -= column[u] * pi;
+        for (int u = 0; u < nu; ++u)
+          internal::SubtractProductExactly(column[u], pi, &hi[u], &lo[u]);
       }
     }
-    for (int u = 0; u < nu; ++u) (*rl)(j * nu + u) = static_cast<double>(acc[u]);
+    for (int u = 0; u < nu; ++u) (*rl)(j * nu + u) = hi[u] + lo[u];
   }
 }
 

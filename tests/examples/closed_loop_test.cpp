@@ -127,10 +127,20 @@ TaskResult RunAgainstMujoco(const std::string& name, double latency) {
   return EvaluateClosedLoopTask(config, log);
 }
 
+// Spinner: at least 3 rad in 5 s. As for the Allegro hand below, one run's outcome depends on the
+// latency and on round-off (a 1e-15 change in the KKT kernels' summation order moved the old
+// controller from 3.9 to 2.7 rad at 1 ms), so the test asserts a rate over five fixed latencies:
+// at least 3 of 5 (4 did when this test was written: 2.5 rad at 3 ms, 3.0 to 5.4 rad else).
 TEST(ClosedLoopMujoco, SpinnerKeepsSpinning) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
-  const TaskResult r = RunAgainstMujoco("spinner", 1e-3);
-  EXPECT_TRUE(r.task_success) << "turned " << MetricValue(r, "spinner_angle_gained_rad");
+  int successes = 0;
+  for (double latency : {0.001, 0.002, 0.003, 0.004, 0.005}) {
+    const TaskResult r = RunAgainstMujoco("spinner", latency);
+    std::cout << "latency " << latency << " s: turned "
+              << MetricValue(r, "spinner_angle_gained_rad") << " rad\n";
+    if (r.task_success) ++successes;
+  }
+  EXPECT_GE(successes, 3);
 }
 
 TEST(ClosedLoopMujoco, QuadrupedWalksForward) {

@@ -38,7 +38,8 @@ def test_controller_and_plan(spinner):
     assert q_d.shape == (3,) and v_d.shape == (3,) and u_ff.shape == (3,)
     q = ex.problem.q_init
     s = ctl.replan(0.005, q, np.zeros(3))
-    assert s.iterations == 1 and ctl.plan.start_time == 0.005
+    assert s.iterations == ex.mpc.controller.iterations_per_step == 2
+    assert ctl.plan.start_time == 0.005
     assert ctl.last_warm_start().shape == (41, 3) and ctl.num_rejected_plans() == 0
     u = ctl.control(0.006, q, np.zeros(3))
     assert u.shape == (3,) and u[2] == 0.0
@@ -50,7 +51,7 @@ def test_controller_and_plan(spinner):
     seen = []
     ctl.optimizer.add_callback(lambda it: seen.append(it.iteration))
     ctl.replan(0.010, q, np.zeros(3))
-    assert seen == [0]
+    assert seen == [0, 1]  # one callback per iteration, iterations_per_step = 2
     with pytest.raises(ValueError, match=r"q_hat is an array of shape \(2,\)"):
         ctl.replan(0.015, np.zeros(2), np.zeros(3))
     with pytest.raises(ValueError, match="q_guess"):

@@ -128,12 +128,12 @@ class BandedKktSolver {
   /// docs/solver.md).
   int refinement_steps() const { return refinement_steps_; }
   void set_refinement_steps(int steps) { refinement_steps_ = steps; }
-  /// Whether the refinement's residual is accumulated in long double (64-bit significand on
-  /// x86-64) instead of double. Off (the default), the refined step is as accurate as the
-  /// conditioning of K allows in double (κ · 1e-16: up to ~1e-6 relative on the bimanual
-  /// examples); on, the refinement also removes that error, down to κ · 1e-19 (≤ 1e-9 on every
-  /// example but the bimanual lift and balance, ~2e-9 there), at 25–50 % more KKT time
-  /// (docs/solver.md, "Accuracy").
+  /// Whether the refinement's residual is accumulated in double-double arithmetic (exact
+  /// products by fma, compensated sums) instead of double, with at least two refinement steps.
+  /// Off (the default), the refined step is as accurate as the conditioning κ of K allows in
+  /// double (κ · 1e-16: up to ~1e-6 relative on the bimanual examples); on, the refinement also
+  /// removes that error: below 1e-15 relative on every example (docs/solver.md, "Accuracy"), at
+  /// about 1.5–2× the KKT time.
   bool extended_residual() const { return extended_residual_; }
   void set_extended_residual(bool extended) { extended_residual_ = extended; }
   /// A constraint pivot d (the squared diagonal of the Cholesky factor of −S_j, S_j the Schur
@@ -156,17 +156,21 @@ class BandedKktSolver {
              Eigen::VectorXd* lambda);
 
   /// The residual of the unfactored system for a candidate (p, λ): rp = −g − H p − Aᵀλ (N n),
-  /// rl = −h − A p (N nu), accumulated in long double and rounded once. Uses the H and A of
-  /// the last Factor. Outputs resized.
+  /// rl = −h − A p (N nu); with extended_residual() in double-double, rounded once. Uses the H and
+  /// A of the last Factor. Outputs resized.
   void Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& h, const Eigen::VectorXd& p,
                 const Eigen::VectorXd& lambda, Eigen::VectorXd* rp, Eigen::VectorXd* rl);
 
  private:
   // Pivot block r: D_r = [P Qᵀ; Q R] (n + nu) = F_r Σ F_rᵀ with F_r = [Lp 0; Y Ls] lower
-  // triangular, Σ = diag(I_n, −I_nu): P = Lp Lpᵀ, Y = Q Lp⁻ᵀ, Y Yᵀ − R = Ls Lsᵀ. Reads D's lower
-  // triangle, writes F_[r].
-  bool FactorPivot(int r, const Eigen::MatrixXd& D);
-  void AssembleOffDiagonal(int r, int c, Eigen::MatrixXd* K) const;
+  // triangular, Σ = diag(I_n, −I_nu): P = Lp Lpᵀ, Y = Q Lp⁻ᵀ, Y Yᵀ − R = Ls Lsᵀ. In place in
+  // F_[r], which holds D_r's lower triangle on entry.
+  bool FactorPivot(int r);
+  // Adds the p-part's squared column norms of Vt's constraint columns to the rank test's scale
+  // (diagonal_'s last nu entries).
+  void AddConstraintScale(const Eigen::MatrixXd& Vt);
+  // K(r, c)ᵀ (m × m) for c = r − 1, r − 2, from H_ and A_.
+  void AssembleOffDiagonalTransposed(int r, int c, Eigen::MatrixXd* Kt) const;
   // Solves the interleaved system in place in z_ (N (n + nu)).
   void SolveInterleavedInPlace();
   void SolveOnce(const Eigen::VectorXd& g, const Eigen::VectorXd& h, Eigen::VectorXd* p,
@@ -188,10 +192,19 @@ class BandedKktSolver {
   std::vector<Eigen::MatrixXd> Vt1_, Vt2_;
   // F_[r] (m × m lower triangular, the upper triangle zero).
   std::vector<Eigen::MatrixXd> F_;
-  // Work: K(r, r−2); K(r, r−1) and then U(r, r−1)ᵀ; Σ V(r, c)ᵀ; the pivot block D_r.
-  Eigen::MatrixXd K2_, K1_, U1t_, SVt_, D_;
+  // Work (m × m): T1_ = V(r, r−1) of the last step factored (Vt1_[r]ᵀ, read by the next step),
+  // T2_ = V(r, r−2); diagonal_ (m): the pivot test's scales, the Hessian part's diagonal before
+  // elimination and the constraint rows' squared norms in the metric of H⁻¹.
+  Eigen::MatrixXd T1_, T2_;
+  Eigen::VectorXd diagonal_;
+  // 1 / F_r(i, i) for every step (N m), written by FactorPivot.
+  Eigen::VectorXd inverse_diagonal_;
+  const double* InverseDiagonal(int r) const {
+    return inverse_diagonal_.data() + static_cast<Eigen::Index>(r) * m_;
+  }
   Eigen::VectorXd z_, rp_, rl_, dp_, dl_, work_m_;
-  std::vector<long double> extended_;  // max(n, nu): the residual's long-double accumulators
+  // max(n, nu): the extended residual's double-double accumulators (high and low parts).
+  Eigen::VectorXd extended_hi_, extended_lo_;
 };
 
 }  // namespace idto

@@ -37,9 +37,10 @@ struct SolverOptions {
   /// kPenalty: when > 0, the weight w of w/2 |h|^2, placed on R's unactuated entries (paper
   /// §5.2.1); 0 keeps R's unactuated entries as given (the paper's tables set them in R).
   double penalty_weight{0.0};
-  /// kLagrangeMultipliers: accumulate the KKT refinement's residual in long double, so the
-  /// Newton step and λ carry ~κ·1e-19 instead of ~κ·1e-16 relative error (κ the KKT system's
-  /// condition number; ~1e-6 → ~1e-9 on the bimanual examples) for 25–50 % more KKT time
+  /// kLagrangeMultipliers: accumulate the KKT refinement's residual in double-double arithmetic
+  /// (two refinement steps), so the Newton step and λ are exact to double precision instead of
+  /// carrying ~κ·1e-16 relative error (κ the KKT system's condition number; ~1e-6 → below 1e-15
+  /// on the bimanual examples) for about 1.8× the KKT time
   /// (BandedKktSolver::set_extended_residual).
   bool kkt_extended_residual{false};
   /// d tau / d q: exact (kAnalytic, the default) or by forward / central differences.

@@ -1,0 +1,236 @@
+#pragma once
+
+// Dense kernels for the banded KKT factorization's blocks (m = n + nu, a few to a few dozen),
+// private to src/. Below kSmallKernelLimit: column-oriented loops over contiguous columns that
+// skip zero coefficients (the examples' blocks are sparse: bodies that do not touch do not
+// couple) and multiply by stored reciprocals of the pivots; there Eigen's dynamic-size products
+// and triangular solves spend most of their time packing and blocking. From the limit up,
+// Eigen's blocked kernels win and are used (docs/benchmarks.md, "KKT kernels").
+// All matrices are column-major with a leading dimension (ld) and are read and written in place.
+
+#include <cmath>
+
+#include <Eigen/Core>
+
+namespace idto::internal {
+
+/// Block sizes below this take the loops; from it up, Eigen's kernels (measured: the loops are
+/// 1.2–1.5× faster on the hopper (m = 8) and ball + finger (m = 11) KKT systems, 1.2× slower
+/// on the quadruped (m = 24) and Allegro (m = 29) ones).
+constexpr int kSmallKernelLimit = 16;
+
+using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+using MatrixMap = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+
+/// X ← L⁻¹ X. L: size × size lower triangular (its upper triangle and diagonal are not read),
+/// inverse_diagonal: 1 / L(k, k) (size; a multiplication instead of a division on the critical
+/// path); X: size × cols. Two columns of X at a time, so each column of L is loaded once per pair.
+inline void LowerSolveInPlace(const double* L, int ldl, const double* inverse_diagonal, int size,
+                              double* X, int ldx, int cols) {
+  if (size >= kSmallKernelLimit) {
+    MatrixMap x(X, size, cols, Eigen::OuterStride<>(ldx));
+    ConstMatrixMap(L, size, size, Eigen::OuterStride<>(ldl))
+        .triangularView<Eigen::Lower>()
+        .solveInPlace(x);
+    return;
+  }
+  int c = 0;
+  for (; c + 1 < cols; c += 2) {
+    double* __restrict x0 = X + static_cast<long>(c) * ldx;
+    double* __restrict x1 = x0 + ldx;
+    for (int k = 0; k < size; ++k) {
+      const double* __restrict l = L + static_cast<long>(k) * ldl;
+      const double a0 = x0[k] * inverse_diagonal[k];
+      const double a1 = x1[k] * inverse_diagonal[k];
+      x0[k] = a0;
+      x1[k] = a1;
+      if (a0 == 0.0 && a1 == 0.0) continue;  // the right-hand sides are often sparse
+      for (int i = k + 1; i < size; ++i) {
+        x0[i] -= a0 * l[i];
+        x1[i] -= a1 * l[i];
+      }
+    }
+  }
+  for (; c < cols; ++c) {
+    double* __restrict x = X + static_cast<long>(c) * ldx;
+    for (int k = 0; k < size; ++k) {
+      const double* __restrict l = L + static_cast<long>(k) * ldl;
+      const double a = x[k] * inverse_diagonal[k];
+      x[k] = a;
+      if (a == 0.0) continue;
+      for (int i = k + 1; i < size; ++i) x[i] -= a * l[i];
+    }
+  }
+}
+
+/// x ← L⁻ᵀ x. L: size × size lower triangular (upper triangle and diagonal not read),
+/// inverse_diagonal: 1 / L(k, k); x: size.
+inline void LowerTransposeSolveInPlace(const double* L, int ldl, const double* inverse_diagonal,
+                                       int size, double* x) {
+  if (size >= kSmallKernelLimit) {
+    Eigen::Map<Eigen::VectorXd> v(x, size);
+    ConstMatrixMap(L, size, size, Eigen::OuterStride<>(ldl))
+        .transpose()
+        .triangularView<Eigen::Upper>()
+        .solveInPlace(v);
+    return;
+  }
+  for (int k = size - 1; k >= 0; --k) {
+    const double* __restrict l = L + static_cast<long>(k) * ldl;
+    double sum = x[k];
+    for (int i = k + 1; i < size; ++i) sum -= l[i] * x[i];
+    x[k] = sum * inverse_diagonal[k];
+  }
+}
+
+/// y −= Aᵀ x. A: rows × cols; x: rows; y: cols (dot products along A's columns).
+inline void SubtractTransposeTimes(const double* A, int lda, int rows, int cols, const double* x,
+                                   double* y) {
+  if (rows >= kSmallKernelLimit) {
+    Eigen::Map<Eigen::VectorXd>(y, cols).noalias() -=
+        ConstMatrixMap(A, rows, cols, Eigen::OuterStride<>(lda)).transpose() *
+        Eigen::Map<const Eigen::VectorXd>(x, rows);
+    return;
+  }
+  for (int j = 0; j < cols; ++j) {
+    const double* __restrict a = A + static_cast<long>(j) * lda;
+    double s0 = 0.0, s1 = 0.0;
+    int i = 0;
+    for (; i + 1 < rows; i += 2) {
+      s0 += a[i] * x[i];
+      s1 += a[i + 1] * x[i + 1];
+    }
+    if (i < rows) s0 += a[i] * x[i];
+    y[j] -= s0 + s1;
+  }
+}
+
+/// y += A x. A: rows × cols; x: cols; y: rows (axpys along A's columns).
+inline void AddTimes(const double* A, int lda, int rows, int cols, const double* x, double* y) {
+  if (rows >= kSmallKernelLimit) {
+    Eigen::Map<Eigen::VectorXd>(y, rows).noalias() +=
+        ConstMatrixMap(A, rows, cols, Eigen::OuterStride<>(lda)) *
+        Eigen::Map<const Eigen::VectorXd>(x, cols);
+    return;
+  }
+  for (int j = 0; j < cols; ++j) {
+    const double* __restrict a = A + static_cast<long>(j) * lda;
+    const double c = x[j];
+    if (c == 0.0) continue;
+    for (int i = 0; i < rows; ++i) y[i] += c * a[i];
+  }
+}
+
+/// (hi + lo) ← (hi + lo) − a b in double-double arithmetic: the product is split exactly by an
+/// fma, the sum by Knuth's TwoSum; the low parts' own rounding is of order ε |lo|.
+inline void SubtractProductExactly(double a, double b, double* hi, double* lo) {
+  const double product = a * b;
+  const double product_error = std::fma(a, b, -product);  // a b = product + product_error
+  const double sum = *hi - product;
+  const double virtual_b = sum - *hi;
+  const double sum_error = (*hi - (sum - virtual_b)) + (-product - virtual_b);
+  *hi = sum;
+  *lo += sum_error - product_error;
+}
+
+/// T = Xᵀ. X: rows × cols; T: cols × rows.
+inline void Transpose(const double* X, int ldx, int rows, int cols, double* T, int ldt) {
+  for (int j = 0; j < cols; ++j) {
+    const double* x = X + static_cast<long>(j) * ldx;
+    for (int i = 0; i < rows; ++i) T[j + static_cast<long>(i) * ldt] = x[i];
+  }
+}
+
+namespace small_dense_detail {
+
+// SubtractSignedProduct for R rows known at compile time: column j of C accumulates in registers
+// (R ≤ 15 doubles), so the update costs one load and one store of C per column instead of one
+// per term (measured 2.5–3× faster than the loop over a dynamic row count at R = 8 and 11).
+template <int R>
+void SubtractSignedProductFixedRows(const double* T, int ldt, const double* X, int ldx, int inner,
+                                    int cols, int n, double* C, int ldc) {
+  using Column = Eigen::Matrix<double, R, 1>;
+  for (int j = 0; j < cols; ++j) {
+    const double* x = X + static_cast<long>(j) * ldx;
+    Column sum = Column::Zero();
+    for (int k = 0; k < inner; ++k) {
+      const double a = k < n ? x[k] : -x[k];
+      if (a == 0.0) continue;
+      sum.noalias() += a * Eigen::Map<const Column>(T + static_cast<long>(k) * ldt);
+    }
+    Eigen::Map<Column>(C + static_cast<long>(j) * ldc) -= sum;
+  }
+}
+
+template <int R>
+void SubtractSignedProductDispatch(const double* T, int ldt, const double* X, int ldx, int rows,
+                                   int inner, int cols, int n, double* C, int ldc) {
+  if (rows == R) {
+    SubtractSignedProductFixedRows<R>(T, ldt, X, ldx, inner, cols, n, C, ldc);
+  } else if constexpr (R > 1) {
+    SubtractSignedProductDispatch<R - 1>(T, ldt, X, ldx, rows, inner, cols, n, C, ldc);
+  }
+}
+
+}  // namespace small_dense_detail
+
+/// C ← C − T Σ X with Σ = diag(I_n, −I_{inner−n}): C(:, j) −= Σ_k σ_k X(k, j) T(:, k).
+/// T: rows × inner; X: inner × cols; C: rows × cols. With `lower` (C square), only C's lower
+/// triangle is needed: it is updated, and the strictly upper triangle is updated too or left
+/// unchanged (below kSmallKernelLimit the whole columns are cheaper). Zero coefficients are
+/// skipped (the constraint rows of the right-hand sides are often zero).
+inline void SubtractSignedProduct(const double* T, int ldt, const double* X, int ldx, int rows,
+                                  int inner, int cols, int n, bool lower, double* C, int ldc) {
+  if (rows < kSmallKernelLimit) {
+    small_dense_detail::SubtractSignedProductDispatch<kSmallKernelLimit - 1>(
+        T, ldt, X, ldx, rows, inner, cols, n, C, ldc);
+    return;
+  }
+  const ConstMatrixMap t(T, rows, inner, Eigen::OuterStride<>(ldt));
+  const ConstMatrixMap x(X, inner, cols, Eigen::OuterStride<>(ldx));
+  MatrixMap c(C, rows, cols, Eigen::OuterStride<>(ldc));
+  const int rest = inner - n;
+  if (lower) {
+    auto c_lower = c.triangularView<Eigen::Lower>();
+    c_lower -= t.leftCols(n) * x.topRows(n);
+    if (rest > 0) c_lower += t.rightCols(rest) * x.bottomRows(rest);
+  } else {
+    c.noalias() -= t.leftCols(n) * x.topRows(n);
+    if (rest > 0) c.noalias() += t.rightCols(rest) * x.bottomRows(rest);
+  }
+}
+
+/// Right-looking Cholesky of columns [begin, end) of the lower triangle of the size × size M,
+/// in place: M(k:, k) becomes the factor's column k and the trailing block below and right of
+/// `end` receives the Schur complement update (lower triangle). A pivot d fails when
+/// !(d > tolerance · |diagonal[k]|), diagonal[k] the entry before elimination, saved by the
+/// caller (tolerance 0: d must be positive; NaN and Inf always fail). Returns the failing
+/// column, or −1, and *relative_pivot = d / |diagonal[k]| of that column. inverse_diagonal[k]
+/// receives 1 / L(k, k).
+inline int CholeskyColumnsInPlace(double tolerance, const double* diagonal, int size, int begin,
+                                  int end, double* M, int ld, double* inverse_diagonal,
+                                  double* relative_pivot) {
+  for (int k = begin; k < end; ++k) {
+    double* __restrict mk = M + static_cast<long>(k) * ld;
+    const double d = mk[k];
+    const double original = diagonal[k];
+    if (!(d > tolerance * std::abs(original)) || !std::isfinite(d)) {
+      *relative_pivot = original != 0.0 ? d / std::abs(original) : d;
+      return k;
+    }
+    const double lkk = std::sqrt(d);
+    mk[k] = lkk;
+    const double inverse = 1.0 / lkk;
+    inverse_diagonal[k] = inverse;
+    for (int i = k + 1; i < size; ++i) mk[i] *= inverse;
+    for (int j = k + 1; j < size; ++j) {
+      const double a = mk[j];
+      if (a == 0.0) continue;
+      double* __restrict mj = M + static_cast<long>(j) * ld;
+      for (int i = j; i < size; ++i) mj[i] -= a * mk[i];
+    }
+  }
+  return -1;
+}
+
+}  // namespace idto::internal
