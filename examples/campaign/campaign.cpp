@@ -215,6 +215,9 @@ RunResult RunOne(const CampaignSettings& settings, const ExampleConfig& config, 
   c.initial_velocity_norm = (v0 - problem.v_init).norm();
   plant->Reset(q0, v0);
 
+  if (settings.iterations_per_step > 0) {
+    mpc.controller.iterations_per_step = settings.iterations_per_step;
+  }
   SolverOptions options = config.mpc_solver.value_or(config.solver);
   options.num_threads = settings.threads;
   options.verbosity = 0;

@@ -35,6 +35,8 @@ struct CampaignSettings {
   double initial_position{1e-3};
   double initial_velocity{0.05};
   int threads{1};  ///< solver threads of the controller
+  /// Solver iterations per control step (mpc.iterations_per_step); 0: the example's file.
+  int iterations_per_step{0};
 };
 
 /// The hard defaults for `example` (spinner, quadruped, quadruped_hills, hopper, bimanual_lift,

@@ -2,7 +2,8 @@
 // reports the success rate (docs/mpc.md, "Campaigns").
 //
 //   idto-campaign NAME --runs N --seed S [--jobs J] [--json FILE] [--markdown FILE]
-//                 [--threads T] [--latency S] [--jitter S] [--max-impulse X] [--mismatch F]
+//                 [--threads T] [--iterations-per-step K] [--latency S] [--jitter S] [--max-impulse
+//                 X] [--mismatch F]
 //                 [--noise F] [--initial F]
 //   idto-campaign NAME --run-index I --seed S --json FILE      (one run: seed S + I)
 //   idto-campaign --merge FILE... [--json FILE] [--markdown FILE]
@@ -68,6 +69,9 @@ const char kUsage[] =
     "  --json FILE         write the runs and the summary as JSON\n"
     "  --markdown FILE     write the summary as Markdown tables\n"
     "  --threads T         controller solver threads (T >= 1, default 1)\n"
+    "  --iterations-per-step K\n"
+    "                      solver iterations per control step (K >= 1, default: the\n"
+    "                      example's mpc.iterations_per_step)\n"
     "  --latency S         fixed latency of every re-plan, s (default: per example)\n"
     "  --jitter S          plus uniform [0, S] s per re-plan (default: twice the latency)\n"
     "  --max-impulse X     largest push impulse, N s (default: per example)\n"
@@ -87,7 +91,7 @@ struct UsageError {
 
 struct Arguments {
   std::string name;
-  std::optional<int> runs, jobs, run_index, threads;
+  std::optional<int> runs, jobs, run_index, threads, iterations_per_step;
   std::optional<std::uint64_t> seed;
   std::optional<double> latency, jitter, max_impulse, mismatch, noise, initial;
   std::vector<std::string> merge;
@@ -153,6 +157,8 @@ Arguments ParseArguments(int argc, char** argv) {
       a.run_index = ParseInt(arg, value(), 0);
     } else if (arg == "--threads") {
       a.threads = ParseInt(arg, value(), 1);
+    } else if (arg == "--iterations-per-step") {
+      a.iterations_per_step = ParseInt(arg, value(), 1);
     } else if (arg == "--seed") {
       a.seed = ParseSeed(arg, value());
     } else if (arg == "--latency") {
@@ -230,6 +236,7 @@ std::string ExecutablePath(const char* argv0) {
 CampaignSettings Settings(const Arguments& a) {
   CampaignSettings s = idto::campaign::DefaultSettings(a.name);
   if (a.threads) s.threads = *a.threads;
+  if (a.iterations_per_step) s.iterations_per_step = *a.iterations_per_step;
   if (a.latency) {
     s.latency = *a.latency;
     s.jitter = 2.0 * s.latency;
@@ -262,6 +269,7 @@ std::vector<std::string> SettingFlags(const Arguments& a) {
     return std::string(buffer);
   };
   if (a.threads) add("--threads", std::to_string(*a.threads));
+  if (a.iterations_per_step) add("--iterations-per-step", std::to_string(*a.iterations_per_step));
   if (a.latency) add("--latency", exact(*a.latency));
   if (a.jitter) add("--jitter", exact(*a.jitter));
   if (a.max_impulse) add("--max-impulse", exact(*a.max_impulse));

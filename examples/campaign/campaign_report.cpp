@@ -93,7 +93,7 @@ void WriteSettings(const CampaignSettings& s, std::ostream& out) {
       << ", \"latency_s\": " << Num(s.latency) << ", \"jitter_s\": " << Num(s.jitter)
       << ", \"initial_position\": " << Num(s.initial_position)
       << ", \"initial_velocity\": " << Num(s.initial_velocity) << ", \"threads\": " << s.threads
-      << "},\n";
+      << ", \"iterations_per_step\": " << s.iterations_per_step << "},\n";
 }
 
 void WriteRun(const RunResult& r, std::ostream& out) {
@@ -207,6 +207,8 @@ CampaignSettings ReadSettings(const YAML::Node& n, const std::string& file) {
   s.initial_position = Number(n, "initial_position", file, w);
   s.initial_velocity = Number(n, "initial_velocity", file, w);
   s.threads = As<int>(n, "threads", file, w);
+  // Absent in files written before the option existed: the example's own setting.
+  if (n["iterations_per_step"]) s.iterations_per_step = As<int>(n, "iterations_per_step", file, w);
   return s;
 }
 
@@ -253,7 +255,7 @@ bool SameSettings(const CampaignSettings& a, const CampaignSettings& b) {
          a.noise_velocity == b.noise_velocity && a.noise_velocity_floor == b.noise_velocity_floor &&
          a.latency == b.latency && a.jitter == b.jitter &&
          a.initial_position == b.initial_position && a.initial_velocity == b.initial_velocity &&
-         a.threads == b.threads;
+         a.threads == b.threads && a.iterations_per_step == b.iterations_per_step;
 }
 
 std::string Percent(double x) {
@@ -351,7 +353,11 @@ std::string CampaignMarkdown(const CampaignSettings& settings, const std::vector
       << 100.0 * settings.mismatch << " %, noise " << settings.noise_position << " rad or m on q, "
       << 100.0 * settings.noise_velocity << " % (floor " << settings.noise_velocity_floor
       << ") on v, latency " << 1e3 * settings.latency << " ms + uniform [0, "
-      << 1e3 * settings.jitter << "] ms, " << settings.threads << " solver thread(s).\n\n"
+      << 1e3 * settings.jitter << "] ms, " << settings.threads << " solver thread(s)"
+      << (settings.iterations_per_step > 0
+              ? ", " + std::to_string(settings.iterations_per_step) + " iteration(s) per step"
+              : std::string())
+      << ".\n\n"
       << "| example | runs | successes | success rate | 95% Wilson interval | late re-plans "
          "(runs with any) | rejected re-plans | non-finite commands |\n"
       << "| --- | --- | --- | --- | --- | --- | --- | --- |\n"
