@@ -241,7 +241,7 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
   // below r − 2, so U(r, r−2) = K(r, r−2). The same pivots as a block LDLᵀ (D_r = F_r Σ F_rᵀ),
   // but each off-diagonal block costs one triangular solve with F_c instead of a solve with D_c.
   // D_r is symmetric: only its lower triangle is formed (in F_[r]) and read. The products go
-  // through internal:: kernels (src/math/small_dense.hpp); Vᵀ's transposes Tt_ turn the
+  // through internal:: kernels (src/math/small_dense.hpp); the transposes T1_, T2_ of Vt turn the
   // Σ-weighted products into column updates.
   const int m = m_;
   for (int r = 0; r < num_steps_; ++r) {
