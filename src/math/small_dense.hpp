@@ -200,24 +200,64 @@ inline void SubtractSignedProduct(const double* T, int ldt, const double* X, int
   }
 }
 
-/// Right-looking Cholesky of columns [begin, end) of the lower triangle of the size × size M,
-/// in place: M(k:, k) becomes the factor's column k and the trailing block below and right of
-/// `end` receives the Schur complement update (lower triangle). A pivot d fails when
-/// !(d > tolerance · |diagonal[k]|), diagonal[k] the entry before elimination, saved by the
-/// caller (tolerance 0: d must be positive; NaN and Inf always fail). Returns the failing
-/// column, or −1, and *relative_pivot = d / |diagonal[k]| of that column. inverse_diagonal[k]
-/// receives 1 / L(k, k).
+namespace small_dense_detail {
+
+// The pivot test of CholeskyColumnsInPlace; true when column k's pivot d is acceptable.
+inline bool AcceptPivot(double d, double tolerance, double original, double* relative_pivot) {
+  if (d > tolerance * std::abs(original) && std::isfinite(d)) return true;
+  *relative_pivot = original != 0.0 ? d / std::abs(original) : d;
+  return false;
+}
+
+// CholeskyColumnsInPlace from kSmallKernelLimit up: left-looking (each column by one Eigen
+// matrix-vector product with the columns before it), then the trailing block's update by one
+// Eigen rank-(end − begin) product.
+inline int CholeskyColumnsLeftLooking(double tolerance, const double* diagonal, int size, int begin,
+                                      int end, double* M, int ld, double* inverse_diagonal,
+                                      double* relative_pivot) {
+  MatrixMap m(M, size, size, Eigen::OuterStride<>(ld));
+  for (int k = begin; k < end; ++k) {
+    const int below = size - k;
+    if (k > begin) {
+      m.col(k).tail(below).noalias() -=
+          m.block(k, begin, below, k - begin) * m.row(k).segment(begin, k - begin).transpose();
+    }
+    const double d = m(k, k);
+    if (!AcceptPivot(d, tolerance, diagonal[k], relative_pivot)) return k;
+    const double lkk = std::sqrt(d);
+    inverse_diagonal[k] = 1.0 / lkk;
+    m(k, k) = lkk;
+    m.col(k).tail(below - 1) *= inverse_diagonal[k];
+  }
+  const int rest = size - end;
+  if (rest > 0 && end > begin) {
+    const auto panel = m.block(end, begin, rest, end - begin);
+    m.bottomRightCorner(rest, rest).triangularView<Eigen::Lower>() -= panel * panel.transpose();
+  }
+  return -1;
+}
+
+}  // namespace small_dense_detail
+
+/// Cholesky of columns [begin, end) of the lower triangle of the size × size M, in place (the
+/// columns before `begin` already eliminated into the rest): M(k:, k) becomes the factor's
+/// column k and the trailing block below and right of `end` receives the Schur complement update
+/// (lower triangle). A pivot d fails when !(d > tolerance · |diagonal[k]|), diagonal[k] the
+/// caller's scale for that row (tolerance 0: d must be positive; NaN and Inf always fail).
+/// Returns the failing column, or −1, and *relative_pivot = d / |diagonal[k]| of that column.
+/// inverse_diagonal[k] receives 1 / L(k, k). Below kSmallKernelLimit right-looking column
+/// updates that skip zero multipliers; from it up, left-looking Eigen products.
 inline int CholeskyColumnsInPlace(double tolerance, const double* diagonal, int size, int begin,
                                   int end, double* M, int ld, double* inverse_diagonal,
                                   double* relative_pivot) {
+  if (size >= kSmallKernelLimit) {
+    return small_dense_detail::CholeskyColumnsLeftLooking(tolerance, diagonal, size, begin, end, M,
+                                                          ld, inverse_diagonal, relative_pivot);
+  }
   for (int k = begin; k < end; ++k) {
     double* __restrict mk = M + static_cast<long>(k) * ld;
     const double d = mk[k];
-    const double original = diagonal[k];
-    if (!(d > tolerance * std::abs(original)) || !std::isfinite(d)) {
-      *relative_pivot = original != 0.0 ? d / std::abs(original) : d;
-      return k;
-    }
+    if (!small_dense_detail::AcceptPivot(d, tolerance, diagonal[k], relative_pivot)) return k;
     const double lkk = std::sqrt(d);
     mk[k] = lkk;
     const double inverse = 1.0 / lkk;
