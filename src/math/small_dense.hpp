@@ -22,9 +22,10 @@ constexpr int kSmallKernelLimit = 16;
 using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 using MatrixMap = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 
-/// X ← L⁻¹ X. L: size × size lower triangular (its upper triangle and diagonal are not read),
-/// inverse_diagonal: 1 / L(k, k) (size; a multiplication instead of a division on the critical
-/// path); X: size × cols. Two columns of X at a time, so each column of L is loaded once per pair.
+/// X ← L⁻¹ X. L: size × size lower triangular (its upper triangle is not read),
+/// inverse_diagonal: 1 / L(k, k) (size; below kSmallKernelLimit it replaces L's diagonal, a
+/// multiplication instead of a division on the critical path); X: size × cols. Two columns of X at
+/// a time, so each column of L is loaded once per pair.
 inline void LowerSolveInPlace(const double* L, int ldl, const double* inverse_diagonal, int size,
                               double* X, int ldx, int cols) {
   if (size >= kSmallKernelLimit) {
@@ -63,8 +64,8 @@ inline void LowerSolveInPlace(const double* L, int ldl, const double* inverse_di
   }
 }
 
-/// x ← L⁻ᵀ x. L: size × size lower triangular (upper triangle and diagonal not read),
-/// inverse_diagonal: 1 / L(k, k); x: size.
+/// x ← L⁻ᵀ x. L: size × size lower triangular (upper triangle not read), inverse_diagonal:
+/// 1 / L(k, k) (used as LowerSolveInPlace does); x: size.
 inline void LowerTransposeSolveInPlace(const double* L, int ldl, const double* inverse_diagonal,
                                        int size, double* x) {
   if (size >= kSmallKernelLimit) {
@@ -122,7 +123,9 @@ inline void AddTimes(const double* A, int lda, int rows, int cols, const double*
 }
 
 /// (hi + lo) ← (hi + lo) − a b in double-double arithmetic: the product is split exactly by an
-/// fma, the sum by Knuth's TwoSum; the low parts' own rounding is of order ε |lo|.
+/// fma, the sum by Knuth's TwoSum; the low parts' own rounding is of order ε |lo|. Requires
+/// that the compiler does not contract these expressions into fmas (CMakeLists.txt compiles
+/// banded_kkt.cpp, its one user, with -ffp-contract=off).
 inline void SubtractProductExactly(double a, double b, double* hi, double* lo) {
   const double product = a * b;
   const double product_error = std::fma(a, b, -product);  // a b = product + product_error

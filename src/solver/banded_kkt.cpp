@@ -187,10 +187,11 @@ bool BandedKktSolver::FactorPivot(int r) {
     status_ = {KktStatus::Code::kHessianNotPositiveDefinite, r, row, relative};
     return false;
   }
-  // The rank test's scale for constraint row u: its squared norm in the metric of H⁻¹ (the sum
-  // of the positive contributions to −S's diagonal, |Y_u|² here and the p-parts of the earlier
-  // blocks in Factor), so d / scale is the squared sine of the row's angle with the span of the
-  // rows before it. (−S's own diagonal is no scale: for a dependent row it is round-off itself.)
+  // The rank test's scale for constraint row u: the sum of the positive contributions to −S's
+  // diagonal (|Y_u|² here, the p-parts of the earlier blocks in Factor), about the row's squared
+  // norm in the metric of H⁻¹, so d / scale is about the squared sine of the row's angle with the
+  // span of the rows before it. (−S's own diagonal is no scale: for a dependent row it is
+  // round-off itself.)
   for (int j = n_; j < m; ++j) {
     for (int i = j; i < m; ++i) F(i, j) = -F(i, j);
     diagonal_[j] += F.row(j).head(n_).squaredNorm();

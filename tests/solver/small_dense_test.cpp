@@ -1,8 +1,11 @@
 // The banded KKT factorization's block kernels (src/math/small_dense.hpp) against Eigen's dense
-// operations, for every block size from 1 to 20 (both sides of kSmallKernelLimit), with a leading
-// dimension larger than the rows and with sparse operands (the zero-skipping paths).
+// operations, for every block size from 1 to 20 (both sides of kSmallKernelLimit), with leading
+// dimensions larger than the rows and with sparse operands (the zero-skipping paths); the
+// double-double residual update against exactly known results.
 
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include <Eigen/Dense>
 
@@ -17,12 +20,13 @@ using Eigen::VectorXd;
 
 constexpr int kPad = 3;  // leading dimension = rows + kPad
 
-// A random matrix with about a third of its entries zero.
+// A random matrix with about half of its entries zero: a scattered third, and every row
+// i ≡ 1 (mod 4) entirely (so that neighbouring columns share zero rows).
 MatrixXd SparseRandom(int rows, int cols, test::Random* rng) {
   MatrixXd M = rng->Matrix(rows, cols);
   for (int j = 0; j < cols; ++j) {
     for (int i = 0; i < rows; ++i) {
-      if ((i + 2 * j) % 3 == 0) M(i, j) = 0.0;
+      if ((i + 2 * j) % 3 == 0 || i % 4 == 1) M(i, j) = 0.0;
     }
   }
   return M;
@@ -91,54 +95,88 @@ TEST_P(SmallDense, ProductsMatchEigen) {
       EXPECT_TRUE((C.bottomRows(kPad).array() == -7.0).all()) << "wrote past the rows";
     }
   }
-  const MatrixXd A = SparseRandom(m, m + 1, &rng);
+  const MatrixXd A = SparseRandom(m, m + 1, &rng), Ap = Padded(A);
   const VectorXd x = rng.Vector(m), z = rng.Vector(m + 1);
   VectorXd y = rng.Vector(m + 1);
   VectorXd expected = y - A.transpose() * x;
-  internal::SubtractTransposeTimes(A.data(), m, m, m + 1, x.data(), y.data());
+  internal::SubtractTransposeTimes(Ap.data(), m + kPad, m, m + 1, x.data(), y.data());
   EXPECT_LE((y - expected).norm(), 1e-13 * (1.0 + expected.norm()));
   VectorXd w = rng.Vector(m);
   expected = w + A * z;
-  internal::AddTimes(A.data(), m, m, m + 1, z.data(), w.data());
+  internal::AddTimes(Ap.data(), m + kPad, m, m + 1, z.data(), w.data());
   EXPECT_LE((w - expected).norm(), 1e-13 * (1.0 + expected.norm()));
 }
 
 TEST_P(SmallDense, CholeskyColumnsFactorAndLeaveTheSchurComplement) {
   const int m = GetParam();
   test::Random rng(300 + m);
-  const MatrixXd R = rng.Matrix(m, m);
+  const MatrixXd R = SparseRandom(m, m, &rng);
   const MatrixXd S = R * R.transpose() + MatrixXd::Identity(m, m);
-  const int n = m / 2;
-  MatrixXd F = S;
-  VectorXd diagonal = S.diagonal(), inverse(m);
-  double relative = 0.0;
-  ASSERT_EQ(internal::CholeskyColumnsInPlace(0.0, diagonal.data(), m, 0, n, F.data(), m,
-                                             inverse.data(), &relative),
-            -1);
-  // The first n columns: P = Lp Lpᵀ, Y = Q Lp⁻ᵀ; the trailing block: R − Y Yᵀ.
-  const Eigen::LLT<MatrixXd> llt(S.topLeftCorner(n, n));
-  const MatrixXd Lp = llt.matrixL();
-  const MatrixXd Y =
-      Lp.triangularView<Eigen::Lower>().solve(S.bottomLeftCorner(m - n, n).transpose()).transpose();
-  const MatrixXd schur = S.bottomRightCorner(m - n, m - n) - Y * Y.transpose();
-  const MatrixXd got_lp = F.topLeftCorner(n, n).triangularView<Eigen::Lower>();
-  EXPECT_LE((got_lp - Lp).norm(), 1e-12 * Lp.norm());
-  EXPECT_LE((F.bottomLeftCorner(m - n, n) - Y).norm(), 1e-12 * (1.0 + Y.norm()));
-  const MatrixXd got_schur = F.bottomRightCorner(m - n, m - n).triangularView<Eigen::Lower>();
-  const MatrixXd want_schur = schur.triangularView<Eigen::Lower>();
-  EXPECT_LE((got_schur - want_schur).norm(), 1e-12 * (1.0 + schur.norm()));
-  for (int k = 0; k < n; ++k) EXPECT_DOUBLE_EQ(inverse[k], 1.0 / F(k, k));
-  // A singular trailing block fails at its dependent row with the relative pivot.
+  const MatrixXd L = S.llt().matrixL();
+  // In two calls, columns [0, n) and then [n, m), as BandedKktSolver::FactorPivot does: the first
+  // leaves the Schur complement in the trailing block, so the two together give S's Cholesky.
+  for (int n : {0, m / 2, m}) {
+    MatrixXd F = Padded(S);
+    const VectorXd diagonal = S.diagonal();
+    VectorXd inverse = VectorXd::Constant(m, -1.0);
+    double relative = 0.0;
+    ASSERT_EQ(internal::CholeskyColumnsInPlace(0.0, diagonal.data(), m, 0, n, F.data(), m + kPad,
+                                               inverse.data(), &relative),
+              -1);
+    if (n > 0 && n < m) {
+      // After the first call: the trailing block holds S22 − Y Yᵀ (lower triangle).
+      const MatrixXd Y = L.bottomLeftCorner(m - n, n);
+      const MatrixXd schur = S.bottomRightCorner(m - n, m - n) - Y * Y.transpose();
+      const MatrixXd got = F.block(n, n, m - n, m - n).triangularView<Eigen::Lower>();
+      const MatrixXd want = schur.triangularView<Eigen::Lower>();
+      EXPECT_LE((got - want).norm(), 1e-12 * (1.0 + want.norm())) << "n = " << n;
+    }
+    ASSERT_EQ(internal::CholeskyColumnsInPlace(0.0, diagonal.data(), m, n, m, F.data(), m + kPad,
+                                               inverse.data(), &relative),
+              -1);
+    const MatrixXd got = F.topRows(m).triangularView<Eigen::Lower>();
+    EXPECT_LE((got - L).norm(), 1e-12 * L.norm()) << "n = " << n;
+    for (int k = 0; k < m; ++k) EXPECT_DOUBLE_EQ(inverse[k], 1.0 / F(k, k)) << k;
+    EXPECT_TRUE((F.bottomRows(kPad).array() == -7.0).all()) << "wrote past the rows";
+  }
+  // A dependent last row (S = B Bᵀ with B's last row equal to its first): the last pivot is
+  // round-off relative to its scale, so tolerance 1e-14 fails there and reports it.
   if (m >= 2) {
-    MatrixXd G = MatrixXd::Zero(m, m);
-    G.col(0).setOnes();
-    G(0, 0) = 4.0;
-    diagonal = G.diagonal();
-    diagonal(m - 1) = 1.0;
+    MatrixXd B = rng.Matrix(m, m);
+    B.row(m - 1) = B.row(0);
+    MatrixXd G = B * B.transpose();
+    const VectorXd diagonal = G.diagonal();
+    VectorXd inverse(m);
+    double relative = 1.0;
     const int row = internal::CholeskyColumnsInPlace(1e-14, diagonal.data(), m, 0, m, G.data(), m,
                                                      inverse.data(), &relative);
-    EXPECT_EQ(row, 1);
+    EXPECT_EQ(row, m - 1);
+    EXPECT_LE(std::abs(relative), 1e-14);
   }
+}
+
+// The double-double update is exact where double arithmetic is not: (1 + 2⁻³⁰)² = 1 + 2⁻²⁹ +
+// 2⁻⁶⁰, whose last term a double product drops; and 1 − 2⁻⁶⁰, which a double sum rounds to 1.
+TEST(SmallDenseExact, ProductAndSumErrorsAreKept) {
+  const double a = 1.0 + std::ldexp(1.0, -30);
+  double hi = 1.0, lo = 0.0;
+  internal::SubtractProductExactly(a, a, &hi, &lo);
+  EXPECT_EQ(hi, -std::ldexp(1.0, -29));
+  EXPECT_EQ(lo, -std::ldexp(1.0, -60));
+  hi = 1.0;
+  lo = 0.0;
+  internal::SubtractProductExactly(std::ldexp(1.0, -30), std::ldexp(1.0, -30), &hi, &lo);
+  EXPECT_EQ(hi, 1.0);
+  EXPECT_EQ(lo, -std::ldexp(1.0, -60));
+}
+
+TEST(SmallDenseExact, TransposeWithLeadingDimensions) {
+  test::Random rng(5);
+  const MatrixXd X = rng.Matrix(4, 7), Xp = Padded(X);
+  MatrixXd T = MatrixXd::Constant(7 + kPad, 4, -7.0);
+  internal::Transpose(Xp.data(), 4 + kPad, 4, 7, T.data(), 7 + kPad);
+  EXPECT_EQ(T.topRows(7), X.transpose());
+  EXPECT_TRUE((T.bottomRows(kPad).array() == -7.0).all());
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, SmallDense, ::testing::Range(1, 21));

@@ -93,7 +93,9 @@ struct KktStatus {
   /// The row within that block's Hessian part (0..n−1) or constraint part (0..nu−1); −1 on
   /// success.
   int row{-1};
-  /// The pivot found, relative to its diagonal entry before elimination (≤ 0 or tiny, or NaN).
+  /// The pivot found, relative to its scale (≤ 0 or tiny, or NaN): for the Hessian part its
+  /// diagonal entry before elimination; for the constraint part the row's squared norm (see
+  /// BandedKktSolver::rank_tolerance).
   double relative_pivot{0.0};
 
   bool ok() const { return code == Code::kSuccess; }
@@ -137,9 +139,11 @@ class BandedKktSolver {
   bool extended_residual() const { return extended_residual_; }
   void set_extended_residual(bool extended) { extended_residual_ = extended; }
   /// A constraint pivot d (the squared diagonal of the Cholesky factor of −S_j, S_j the Schur
-  /// complement of the constraint part of pivot block j) with d <= tolerance · (−S_j)_ii is
-  /// rank deficiency (default 1e-14: the row makes an angle below ~1e-7 with the span of the
-  /// rows before it, in the metric of H⁻¹).
+  /// complement of the constraint part of pivot block j) with d <= tolerance · s is rank
+  /// deficiency, s the sum of the positive contributions to (−S_j)_ii: about the row's squared
+  /// norm in the metric of H⁻¹ (default 1e-14: the row makes an angle below ~1e-7 with the span
+  /// of the rows before it, in about that metric). (−S_j)_ii itself is no scale: for a dependent
+  /// row it is round-off.
   double rank_tolerance() const { return rank_tolerance_; }
   void set_rank_tolerance(double tolerance) { rank_tolerance_ = tolerance; }
 
