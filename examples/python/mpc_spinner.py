@@ -3,9 +3,11 @@
 solver iteration from the warm start) and the plant is stepped at 1 ms from this loop.
 
     PYTHONPATH=build/python python3 examples/python/mpc_spinner.py [--duration 5] [--plant builtin]
+        [--latency SECONDS]
 
 Each new plan drives the robot after the wall-clock time its re-plan took (as idto-run --mpc
-does by default), so the result is what this machine achieves in real time. Task: the spinner
+does by default), so the result is what this machine achieves in real time; --latency fixes the
+delay instead, which makes the run reproducible. Task: the spinner
 keeps turning, at least 0.6 rad/s on average (3 rad in 5 s).
 """
 
@@ -18,8 +20,14 @@ import numpy as np
 import idto
 
 
-def run(example="spinner", duration=None, plant=None, verbose=True):
-    """Runs the closed loop; returns a dict of results."""
+def run(example="spinner", duration=None, plant=None, latency=None, verbose=True):
+    """Runs the closed loop; returns a dict of results.
+
+    latency: None to apply each plan after the wall-clock time its re-plan took, or a fixed delay
+    in seconds (the run is then the same on every machine and at any load).
+    """
+    if latency is not None and not (np.isfinite(latency) and latency >= 0):
+        raise ValueError(f"latency: expected a finite delay >= 0 s or None, got {latency!r}")
     ex = idto.load_example(example)
     model, mpc = ex.model, ex.mpc
     if plant is not None:
@@ -46,21 +54,26 @@ def run(example="spinner", duration=None, plant=None, verbose=True):
     steps = int(round(duration / dt))
     steps_per_replan = max(1, int(round(period / dt)))
     active, pending, pending_at = controller.plan, None, -1.0
-    solve_times, rejected = [], 0
+    solve_times, rejected, late = [], 0, 0
     q0 = sim.q
     for step in range(steps):
         t = step * dt
+        # A plan due now takes over before a re-plan at this step replaces the pending one (as in
+        # idto.run_closed_loop: a delay of exactly one period activates at the next re-plan).
+        if pending is not None and t + 1e-12 >= pending_at:
+            active, pending = pending, None
         if step > 0 and step % steps_per_replan == 0:
             start = time.perf_counter()
             summary = controller.replan(t, sim.q, sim.v)
             solve = time.perf_counter() - start
             solve_times.append(solve)
+            delay = solve if latency is None else latency
             if summary.termination == idto.TerminationType.kFailure:
-                rejected += 1
+                rejected += 1  # the plan in force stays
+            elif delay > period + 1e-12:
+                late += 1  # too late to be used: the plan in force stays
             else:
-                pending, pending_at = controller.plan, t + max(solve, dt)
-        if pending is not None and t + 1e-12 >= pending_at:
-            active, pending = pending, None
+                pending, pending_at = controller.plan, t + max(delay, dt)
         q_d, v_d, u_ff = active.sample(model, t)
         q, v = sim.q, sim.v
         u = pd.compute(q, v, q_d, v_d, u_ff)
@@ -75,13 +88,14 @@ def run(example="spinner", duration=None, plant=None, verbose=True):
         "task_success": gained >= 0.6 * duration,
         "replans": len(solve_times),
         "rejected": rejected,
+        "late": late,
         "mean_solve_ms": 1e3 * solve_times.mean(),
         "p95_solve_ms": 1e3 * np.percentile(solve_times, 95),
         "fraction_on_time": float(np.mean(solve_times <= period)),
         "q_final": sim.q,
     }
     if verbose:
-        print(f"re-plans: {result['replans']}, rejected: {rejected}, solve time mean "
+        print(f"re-plans: {result['replans']}, rejected: {rejected}, late: {late}, solve time mean "
               f"{result['mean_solve_ms']:.3f} ms, p95 {result['p95_solve_ms']:.3f} ms, on time "
               f"{100 * result['fraction_on_time']:.1f} % (period {1e3 * period:.1f} ms)")
         print(f"spinner angle gained: {gained:.3f} rad ({result['mean_rate_rad_s']:.3f} rad/s); "
@@ -93,8 +107,10 @@ def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--duration", type=float)
     parser.add_argument("--plant", choices=["builtin", "mujoco"])
+    parser.add_argument("--latency", type=float,
+                        help="fixed plan delay in s (default: the measured re-plan time)")
     args = parser.parse_args(argv)
-    result = run(duration=args.duration, plant=args.plant)
+    result = run(duration=args.duration, plant=args.plant, latency=args.latency)
     return 0 if result["task_success"] else 1
 
 
