@@ -16,7 +16,8 @@
 // (n = 9, nu = 3) or allegro (n = 23, nu = 6); route
 //   banded:   BandedKktSolver::Factor + Solve (λ and the Newton step p) + g_merit = g + Aᵀλ,
 //             with the default one step of iterative refinement (banded_unrefined: none;
-//             banded_extended: its residual in long double);
+//             banded_extended: its residual in double-double; banded_2threads: as banded,
+//             with BandedKktSolver::set_num_threads(2));
 //   dense:    today's route: block Cholesky of H, Y = L⁻¹Aᵀ, A H⁻¹ Aᵀ = YᵀY dense and its LLT,
 //             λ, g_merit and p = −H⁻¹ g_merit (Aᵀ filled densely as CalcConstraints does);
 //             not run for allegro at N = 320 (about 10 s and 0.3 GB);
@@ -197,12 +198,13 @@ KktProblem RandomKktProblem(int N, int n, int nu) {
 }
 
 void BM_KktBanded(benchmark::State& state, int n, int nu, int refinement_steps,
-                  bool extended = false) {
+                  bool extended = false, int threads = 1) {
   const int N = static_cast<int>(state.range(0));
   const KktProblem P = RandomKktProblem(N, n, nu);
   idto::BandedKktSolver kkt(N, n, nu);
   kkt.set_refinement_steps(refinement_steps);
   kkt.set_extended_residual(extended);
+  kkt.set_num_threads(threads);
   Eigen::VectorXd p(N * n), lambda(N * nu), g_merit(N * n);
   for (auto _ : state) {
     if (!kkt.Factor(P.H, P.A).ok()) {
@@ -286,11 +288,14 @@ void RegisterKkt() {
     auto* extended = benchmark::RegisterBenchmark(
         (prefix + "banded_extended").c_str(),
         [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, true); });
+    auto* two_threads = benchmark::RegisterBenchmark(
+        (prefix + "banded_2threads").c_str(),
+        [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, false, 2); });
     auto* dense = benchmark::RegisterBenchmark(
         (prefix + "dense").c_str(), [n, nu](benchmark::State& s) { BM_KktDense(s, n, nu); });
     auto* chol = benchmark::RegisterBenchmark((prefix + "cholesky").c_str(),
                                               [n](benchmark::State& s) { BM_KktCholesky(s, n); });
-    for (auto* b : {banded, unrefined, extended, dense, chol}) {
+    for (auto* b : {banded, unrefined, extended, two_threads, dense, chol}) {
       b->ArgNames({"N"})->Unit(benchmark::kMicrosecond)->UseRealTime();
       for (int N : {10, 20, 40, 80, 160, 320}) {
         if (b == dense && n * N > 23 * 160) continue;

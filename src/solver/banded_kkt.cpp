@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "core/parallel.hpp"
 #include "idto/core/errors.hpp"
 #include "math/small_dense.hpp"
 
@@ -154,9 +155,18 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
   Vt1_.assign(num_steps_, mm);
   Vt2_.assign(num_steps_, mm);
   F_.assign(num_steps_, mm);
-  T1_ = mm;
-  T2_ = mm;
-  diagonal_ = Eigen::VectorXd::Zero(m_);
+  const Eigen::VectorXd vm = Eigen::VectorXd::Zero(m_);
+  for (Half& half : half_) half = Half{mm, mm, vm, KktStatus{}};
+  // Two halves from a block size where the step's dense work outweighs a parallel phase
+  // (the kernels' own threshold) and a horizon with at least 3 steps per half.
+  two_half_split_ =
+      m_ >= internal::kSmallKernelLimit && num_steps_ >= 8 ? (num_steps_ - 2) / 2 : num_steps_;
+  split_ = two_half_split_;
+  for (int i = 0; i < 2; ++i) {
+    E_[i] = Wt_[i] = mm;
+    separator_scales_[0][i] = separator_scales_[1][i] = vm;
+  }
+  Wt1_ = C_ = mm;
   inverse_diagonal_ = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(num_steps_) * m_);
   z_ = Eigen::VectorXd::Zero(num_steps_ * m_);
   rp_ = Eigen::VectorXd::Zero(num_steps_ * n_);
@@ -171,51 +181,166 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
   A_ = nullptr;
 }
 
-bool BandedKktSolver::FactorPivot(int r) {
+bool BandedKktSolver::FactorPivot(int r, double* scales, KktStatus* status) {
   // F holds D_r's lower triangle, D = [P Qᵀ; Q R] = F Σ Fᵀ with F = [Lp 0; Y Ls]: the first n
   // columns of a right-looking Cholesky give P = Lp Lpᵀ, Y = Q Lp⁻ᵀ and leave the Schur
   // complement S = R − Y Yᵀ in the trailing block; its negation −S = Ls Lsᵀ.
   Eigen::MatrixXd& F = F_[r];
   const int m = m_;
   double* f = F.data();
-  for (int i = 0; i < n_; ++i) diagonal_[i] = F(i, i);
+  for (int i = 0; i < n_; ++i) scales[i] = F(i, i);
   double relative = 0.0;
   double* inverse = inverse_diagonal_.data() + static_cast<long>(r) * m;
-  int row =
-      internal::CholeskyColumnsInPlace(0.0, diagonal_.data(), m, 0, n_, f, m, inverse, &relative);
+  int row = internal::CholeskyColumnsInPlace(0.0, scales, m, 0, n_, f, m, inverse, &relative);
   if (row >= 0) {
-    status_ = {KktStatus::Code::kHessianNotPositiveDefinite, r, row, relative};
+    *status = {KktStatus::Code::kHessianNotPositiveDefinite, r, row, relative};
     return false;
   }
   // The rank test's scale for constraint row u: the sum of the positive contributions to −S's
-  // diagonal (|Y_u|² here, the p-parts of the earlier blocks in Factor), about the row's squared
-  // norm in the metric of H⁻¹, so d / scale is about the squared sine of the row's angle with the
-  // span of the rows before it. (−S's own diagonal is no scale: for a dependent row it is
-  // round-off itself.)
+  // diagonal (|Y_u|² here, the p-parts of the earlier blocks in Eliminate*), about the row's
+  // squared norm in the metric of H⁻¹, so d / scale is about the squared sine of the row's angle
+  // with the span of the rows before it. (−S's own diagonal is no scale: for a dependent row it
+  // is round-off itself.)
   for (int j = n_; j < m; ++j) {
     for (int i = j; i < m; ++i) F(i, j) = -F(i, j);
-    diagonal_[j] += F.row(j).head(n_).squaredNorm();
+    scales[j] += F.row(j).head(n_).squaredNorm();
   }
-  row = internal::CholeskyColumnsInPlace(rank_tolerance_, diagonal_.data(), m, n_, m, f, m, inverse,
-                                         &relative);
+  row =
+      internal::CholeskyColumnsInPlace(rank_tolerance_, scales, m, n_, m, f, m, inverse, &relative);
   if (row >= 0) {
-    status_ = {KktStatus::Code::kConstraintsRankDeficient, r, row - n_, relative};
+    *status = {KktStatus::Code::kConstraintsRankDeficient, r, row - n_, relative};
     return false;
   }
   F.triangularView<Eigen::StrictlyUpper>().setZero();
   return true;
 }
 
-void BandedKktSolver::AddConstraintScale(const Eigen::MatrixXd& Vt) {
-  for (int u = 0; u < nu_; ++u) diagonal_[n_ + u] += Vt.col(n_ + u).head(n_).squaredNorm();
+void BandedKktSolver::AddConstraintScale(const Eigen::MatrixXd& Vt, double* scales) const {
+  for (int u = 0; u < nu_; ++u) scales[n_ + u] += Vt.col(n_ + u).head(n_).squaredNorm();
 }
 
-void BandedKktSolver::AssembleOffDiagonalTransposed(int r, int c, Eigen::MatrixXd* Kt) const {
-  // K(r, c)ᵀ: rows (p_c, λ_c), columns (p_r, λ_r), c < r: H(r, c)ᵀ and ∂h_r/∂q_{c+1}ᵀ; the rows
-  // of λ_c are zero because h_c does not involve q_{r+1} for r > c.
-  Kt->topLeftCorner(n_, n_) = (c == r - 1 ? H_->B(r) : H_->A(r)).transpose();
-  Kt->topRightCorner(n_, nu_) = A_->Block(r, c + 1).transpose();
-  Kt->bottomRows(nu_).setZero();
+void BandedKktSolver::AssembleCoupling(int r, int c, Eigen::MatrixXd* Kt) const {
+  if (c < r) {
+    // K(c, r) = K(r, c)ᵀ: rows (p_c, λ_c), columns (p_r, λ_r): H(r, c)ᵀ and ∂h_r/∂q_{c+1}ᵀ; the
+    // rows of λ_c are zero because h_c does not involve q_{r+1} for r > c.
+    Kt->topLeftCorner(n_, n_) = (c == r - 1 ? H_->B(r) : H_->A(r)).transpose();
+    Kt->topRightCorner(n_, nu_) = A_->Block(r, c + 1).transpose();
+    Kt->bottomRows(nu_).setZero();
+  } else {
+    // K(c, r), c > r: H(c, r) and ∂h_c/∂q_{r+1}; the columns of λ_r are zero (h_r does not
+    // involve q_{c+1}).
+    Kt->topLeftCorner(n_, n_) = c == r + 1 ? H_->B(c) : H_->A(c);
+    Kt->bottomLeftCorner(nu_, n_) = A_->Block(c, r + 1);
+    Kt->rightCols(nu_).setZero();
+  }
+}
+
+void BandedKktSolver::EliminateSecond(int r, int c2, bool diagonal, Eigen::MatrixXd* D,
+                                      Eigen::MatrixXd* Vt2, double* scales, Half* half) const {
+  const int m = m_;
+  if (diagonal) {
+    D->topLeftCorner(n_, n_) = H_->C(r);
+    D->bottomLeftCorner(nu_, n_) = A_->Block(r, r + 1);
+    D->bottomRightCorner(nu_, nu_).setZero();
+  } else {
+    D->setZero();
+  }
+  std::fill(scales + n_, scales + m, 0.0);
+  if (c2 < 0) return;
+  // Vt2 = F_c2⁻¹ K(c2, r); D −= Vt2ᵀ Σ Vt2.
+  AssembleCoupling(r, c2, Vt2);
+  internal::LowerSolveInPlace(F_[c2].data(), m, InverseDiagonal(c2), m, Vt2->data(), m, m);
+  AddConstraintScale(*Vt2, scales);
+  internal::Transpose(Vt2->data(), m, m, m, half->T2.data(), m);
+  internal::SubtractSignedProduct(half->T2.data(), m, Vt2->data(), m, m, m, m, n_, true, D->data(),
+                                  m);
+}
+
+void BandedKktSolver::EliminateFirst(int r, int c1, const Eigen::MatrixXd* Vt2, Eigen::MatrixXd* D,
+                                     Eigen::MatrixXd* Vt1, double* scales, Half* half) const {
+  if (c1 < 0) return;
+  // U(r, c1)ᵀ = K(c1, r) − V(c1, c2) Σ V(r, c2)ᵀ, with T1 = V(c1, c2);
+  // Vt1 = F_c1⁻¹ U(r, c1)ᵀ; D −= Vt1ᵀ Σ Vt1.
+  const int m = m_;
+  AssembleCoupling(r, c1, Vt1);
+  if (Vt2 != nullptr) {
+    internal::SubtractSignedProduct(half->T1.data(), m, Vt2->data(), m, m, m, m, n_, false,
+                                    Vt1->data(), m);
+  }
+  internal::LowerSolveInPlace(F_[c1].data(), m, InverseDiagonal(c1), m, Vt1->data(), m, m);
+  AddConstraintScale(*Vt1, scales);
+  internal::Transpose(Vt1->data(), m, m, m, half->T1.data(), m);
+  internal::SubtractSignedProduct(half->T1.data(), m, Vt1->data(), m, m, m, m, n_, true, D->data(),
+                                  m);
+}
+
+void BandedKktSolver::FactorForwardHalf() {
+  Half& half = half_[0];
+  const int k = split_;
+  double* scales = half.scales.data();
+  for (int r = 0; r < k; ++r) {
+    EliminateSecond(r, r >= 2 ? r - 2 : -1, true, &F_[r], &Vt2_[r], scales, &half);
+    EliminateFirst(r, r - 1, r >= 2 ? &Vt2_[r] : nullptr, &F_[r], &Vt1_[r], scales, &half);
+    if (!FactorPivot(r, scales, &half.status)) return;
+  }
+  if (k == num_steps_) return;
+  // The separator's forward part (k >= 3): D_k against k − 2 and k − 1; D_{k+1} against k − 1;
+  // U(k + 1, k)ᵀ's part K(k, k + 1) − V(k, k − 1) Σ V(k + 1, k − 1)ᵀ, in Vt1_[k + 1].
+  double* scales_k = separator_scales_[0][0].data();
+  double* scales_k1 = separator_scales_[0][1].data();
+  EliminateSecond(k, k - 2, true, &F_[k], &Vt2_[k], scales_k, &half);
+  EliminateFirst(k, k - 1, &Vt2_[k], &F_[k], &Vt1_[k], scales_k, &half);
+  EliminateSecond(k + 1, k - 1, true, &F_[k + 1], &Vt2_[k + 1], scales_k1, &half);
+  AssembleCoupling(k + 1, k, &Vt1_[k + 1]);
+  internal::SubtractSignedProduct(half.T1.data(), m_, Vt2_[k + 1].data(), m_, m_, m_, m_, n_, false,
+                                  Vt1_[k + 1].data(), m_);
+}
+
+void BandedKktSolver::FactorBackwardHalf() {
+  Half& half = half_[1];
+  const int k = split_;
+  const int N = num_steps_;
+  if (k == N) return;
+  double* scales = half.scales.data();
+  for (int r = N - 1; r >= k + 2; --r) {
+    EliminateSecond(r, r + 2 < N ? r + 2 : -1, true, &F_[r], &Vt2_[r], scales, &half);
+    EliminateFirst(r, r + 1 < N ? r + 1 : -1, r + 2 < N ? &Vt2_[r] : nullptr, &F_[r], &Vt1_[r],
+                   scales, &half);
+    if (!FactorPivot(r, scales, &half.status)) return;
+  }
+  // The separator's backward part (N − k − 2 >= 3 steps above it): D_{k+1} against k + 3 and
+  // k + 2; D_k against k + 2; C_ = −V(k, k + 2) Σ V(k + 1, k + 2)ᵀ. Without K's own blocks.
+  double* scales_k = separator_scales_[1][0].data();
+  double* scales_k1 = separator_scales_[1][1].data();
+  EliminateSecond(k + 1, k + 3, false, &E_[1], &Wt_[1], scales_k1, &half);
+  EliminateFirst(k + 1, k + 2, &Wt_[1], &E_[1], &Wt1_, scales_k1, &half);
+  EliminateSecond(k, k + 2, false, &E_[0], &Wt_[0], scales_k, &half);
+  C_.setZero();  // half.T2 = Wt_[0]ᵀ = V(k, k + 2), from EliminateSecond
+  internal::SubtractSignedProduct(half.T2.data(), m_, Wt1_.data(), m_, m_, m_, m_, n_, false,
+                                  C_.data(), m_);
+}
+
+bool BandedKktSolver::FactorSeparator() {
+  const int k = split_;
+  const int m = m_;
+  Half& half = half_[0];  // its scratch is free again
+  // D_k and D_{k+1}: K's blocks less both halves' updates; U(k + 1, k)ᵀ likewise.
+  for (int i = 0; i < 2; ++i) {
+    F_[k + i].triangularView<Eigen::Lower>() += E_[i];
+    separator_scales_[0][i].tail(nu_) += separator_scales_[1][i].tail(nu_);
+  }
+  Vt1_[k + 1] += C_;
+  status_ = {KktStatus::Code::kSuccess, -1, -1, 0.0};
+  if (!FactorPivot(k, separator_scales_[0][0].data(), &status_)) return false;
+  // Vt1 = F_k⁻¹ U(k + 1, k)ᵀ; D_{k+1} −= Vt1ᵀ Σ Vt1.
+  double* scales = separator_scales_[0][1].data();
+  Eigen::MatrixXd& Vt1 = Vt1_[k + 1];
+  internal::LowerSolveInPlace(F_[k].data(), m, InverseDiagonal(k), m, Vt1.data(), m, m);
+  AddConstraintScale(Vt1, scales);
+  internal::Transpose(Vt1.data(), m, m, m, half.T1.data(), m);
+  internal::SubtractSignedProduct(half.T1.data(), m, Vt1.data(), m, m, m, m, n_, true,
+                                  F_[k + 1].data(), m);
+  return FactorPivot(k + 1, scales, &status_);
 }
 
 KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConstraintJacobian& A) {
@@ -234,71 +359,111 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
   }
   H_ = &H;
   A_ = &A;
-  // Signed block Cholesky of the interleaved matrix K (unknowns x_r = (p_r, λ_r)):
-  // K = G Σ̂ Gᵀ, G(r, r) = F_r, G(r, c) = V(r, c) Σ for c < r, with
-  //   U(r, c) = K(r, c) − Σ_{i<c} V(r, i) Σ V(c, i)ᵀ,   V(r, c) = U(r, c) F_c⁻ᵀ,
-  //   D_r = F_r Σ F_rᵀ = K(r, r) − Σ_{c<r} V(r, c) Σ V(r, c)ᵀ.
-  // K(r, r−2) and K(r, r−1) are the only blocks left of the diagonal and there is no fill-in
-  // below r − 2, so U(r, r−2) = K(r, r−2). The same pivots as a block LDLᵀ (D_r = F_r Σ F_rᵀ),
-  // but each off-diagonal block costs one triangular solve with F_c instead of a solve with D_c.
-  // D_r is symmetric: only its lower triangle is formed (in F_[r]) and read. The products go
-  // through internal:: kernels (src/math/small_dense.hpp); the transposes T1_, T2_ of Vt turn the
-  // Σ-weighted products into column updates.
-  const int m = m_;
-  for (int r = 0; r < num_steps_; ++r) {
-    Eigen::MatrixXd& D = F_[r];
-    D.topLeftCorner(n_, n_) = H.C(r);
-    D.bottomLeftCorner(nu_, n_) = A.Block(r, r + 1);
-    D.bottomRightCorner(nu_, nu_).setZero();
-    diagonal_.tail(nu_).setZero();
-    if (r >= 2) {
-      // Vt2 = F_{r−2}⁻¹ K(r, r−2)ᵀ; D −= Vt2ᵀ Σ Vt2.
-      Eigen::MatrixXd& Vt2 = Vt2_[r];
-      AssembleOffDiagonalTransposed(r, r - 2, &Vt2);
-      internal::LowerSolveInPlace(F_[r - 2].data(), m, InverseDiagonal(r - 2), m, Vt2.data(), m, m);
-      AddConstraintScale(Vt2);
-      internal::Transpose(Vt2.data(), m, m, m, T2_.data(), m);
-      internal::SubtractSignedProduct(T2_.data(), m, Vt2.data(), m, m, m, m, n_, true, D.data(), m);
-    }
-    if (r >= 1) {
-      // U(r, r−1)ᵀ = K(r, r−1)ᵀ − V(r−1, r−2) Σ V(r, r−2)ᵀ, with T1_ = Vt1_[r−1]ᵀ;
-      // Vt1 = F_{r−1}⁻¹ U(r, r−1)ᵀ; D −= Vt1ᵀ Σ Vt1.
-      Eigen::MatrixXd& Vt1 = Vt1_[r];
-      AssembleOffDiagonalTransposed(r, r - 1, &Vt1);
-      if (r >= 2) {
-        internal::SubtractSignedProduct(T1_.data(), m, Vt2_[r].data(), m, m, m, m, n_, false,
-                                        Vt1.data(), m);
+  // Signed block Cholesky of the interleaved matrix K (unknowns x_r = (p_r, λ_r)) in an
+  // elimination order: K = G Σ̂ Gᵀ, G(r, r) = F_r, G(r, c) = V(r, c) Σ for the neighbours c
+  // eliminated before r, with
+  //   U(r, c) = K(r, c) − Σ_{i before c} V(r, i) Σ V(c, i)ᵀ,   V(r, c) = U(r, c) F_c⁻ᵀ,
+  //   D_r = F_r Σ F_rᵀ = K(r, r) − Σ_{c before r} V(r, c) Σ V(r, c)ᵀ.
+  // The order: steps 0..k−1 forward, N−1..k+2 backward, then k, k+1 (k = split_; the halves
+  // are independent: no step of one is a neighbour of a step of the other). Each step has at
+  // most two neighbours before it in its half and there is no fill-in, so U(r, c2) = K(r, c2).
+  // Each off-diagonal block costs one triangular solve with F_c. D_r is symmetric: only its
+  // lower triangle is formed (in F_[r]) and read. The products go through internal:: kernels
+  // (src/math/small_dense.hpp); the transposes in Half turn the Σ-weighted products into
+  // column updates.
+  for (Half& half : half_) half.status = {KktStatus::Code::kSuccess, -1, -1, 0.0};
+  split_ = two_half_split_;
+  if (split_ < num_steps_) {
+    ParallelFor(0, 2, std::min(num_threads_, 2), [this](int i, int) {
+      if (i == 0) {
+        FactorForwardHalf();
+      } else {
+        FactorBackwardHalf();
       }
-      internal::LowerSolveInPlace(F_[r - 1].data(), m, InverseDiagonal(r - 1), m, Vt1.data(), m, m);
-      AddConstraintScale(Vt1);
-      internal::Transpose(Vt1.data(), m, m, m, T1_.data(), m);
-      internal::SubtractSignedProduct(T1_.data(), m, Vt1.data(), m, m, m, m, n_, true, D.data(), m);
-    }
-    if (!FactorPivot(r)) return status_;
+    });
+    if (half_[0].status.ok() && half_[1].status.ok() && FactorSeparator()) return status_;
+    // The backward half needs each ∂h_j/∂q_{j+1} of full row rank, the forward order only the
+    // leading rows h_0..h_j together (docs/solver.md, "Two halves"): on any failure the forward
+    // order decides, and its status is the one reported.
+    split_ = num_steps_;
+    half_[0].status = {KktStatus::Code::kSuccess, -1, -1, 0.0};
   }
-  status_ = {KktStatus::Code::kSuccess, -1, -1, 0.0};
+  FactorForwardHalf();
+  status_ = half_[0].status;
   return status_;
+}
+
+void BandedKktSolver::set_num_threads(int threads) {
+  if (threads < 1 || threads > kMaxParallelThreads) {
+    ThrowInvalidArgument("BandedKktSolver::set_num_threads", "threads", std::to_string(threads),
+                         "in [1, " + std::to_string(kMaxParallelThreads) + "]");
+  }
+  num_threads_ = threads;
+}
+
+int BandedKktSolver::Position(int r) const {
+  const int k = split_;
+  if (r < k) return r;
+  if (r >= k + 2) return k + (num_steps_ - 1 - r);
+  return num_steps_ - 2 + (r - k);
+}
+
+int BandedKktSolver::StepAt(int e) const {
+  const int k = split_;
+  if (e < k) return e;
+  if (e < num_steps_ - 2) return num_steps_ - 1 - (e - k);
+  return k + (e - (num_steps_ - 2));
+}
+
+const Eigen::MatrixXd& BandedKktSolver::Coupling(int r, int c) const {
+  const int k = split_;
+  if (r < k || (r <= k + 1 && c < r)) return c == r - 1 ? Vt1_[r] : Vt2_[r];
+  if (r >= k + 2) return c == r + 1 ? Vt1_[r] : Vt2_[r];
+  if (r == k) return Wt_[0];          // c = k + 2
+  return c == k + 2 ? Wt1_ : Wt_[1];  // r = k + 1, c = k + 2 or k + 3
 }
 
 void BandedKktSolver::SolveInterleavedInPlace() {
   const int m = m_;
+  const int N = num_steps_;
   double* z = z_.data();
-  // Forward: G y = b, stored as z_r = Σ y_r with y_r = F_r⁻¹ (b_r − Σ_{c<r} V(r, c) z_c).
-  for (int r = 0; r < num_steps_; ++r) {
+  // The neighbours of a step, in the order their terms are added.
+  auto neighbours = [N](int r, int* c) {
+    int count = 0;
+    for (int d : {-1, -2, 1, 2}) {
+      if (r + d >= 0 && r + d < N) c[count++] = r + d;
+    }
+    return count;
+  };
+  int c[4];
+  // Forward: G y = b in elimination order, stored as z_r = Σ y_r with
+  // y_r = F_r⁻¹ (b_r − Σ_{c before r} V(r, c) z_c).
+  for (int e = 0; e < N; ++e) {
+    const int r = StepAt(e);
     double* zr = z + static_cast<long>(r) * m;
-    if (r >= 1) internal::SubtractTransposeTimes(Vt1_[r].data(), m, m, m, zr - m, zr);
-    if (r >= 2) internal::SubtractTransposeTimes(Vt2_[r].data(), m, m, m, zr - 2 * m, zr);
+    const int count = neighbours(r, c);
+    for (int i = 0; i < count; ++i) {
+      if (Position(c[i]) > e) continue;
+      internal::SubtractTransposeTimes(Coupling(r, c[i]).data(), m, m, m,
+                                       z + static_cast<long>(c[i]) * m, zr);
+    }
     internal::LowerSolveInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr, m, 1);
     for (int i = n_; i < m; ++i) zr[i] = -zr[i];
   }
-  // Backward: Gᵀ x = z, x_r = F_r⁻ᵀ (z_r − Σ Σ_{c>r} V(c, r)ᵀ x_c).
+  // Backward: Gᵀ x = z, x_r = F_r⁻ᵀ (z_r − Σ Σ_{c after r} V(c, r)ᵀ x_c).
   double* w = work_m_.data();
-  for (int r = num_steps_ - 1; r >= 0; --r) {
+  for (int e = N - 1; e >= 0; --e) {
+    const int r = StepAt(e);
     double* zr = z + static_cast<long>(r) * m;
-    if (r + 1 < num_steps_) {
-      std::fill(w, w + m, 0.0);
-      internal::AddTimes(Vt1_[r + 1].data(), m, m, m, zr + m, w);
-      if (r + 2 < num_steps_) internal::AddTimes(Vt2_[r + 2].data(), m, m, m, zr + 2 * m, w);
+    const int count = neighbours(r, c);
+    bool any = false;
+    for (int i = 0; i < count; ++i) {
+      if (Position(c[i]) < e) continue;
+      if (!any) std::fill(w, w + m, 0.0);
+      any = true;
+      internal::AddTimes(Coupling(c[i], r).data(), m, m, m, z + static_cast<long>(c[i]) * m, w);
+    }
+    if (any) {
       for (int i = 0; i < n_; ++i) zr[i] -= w[i];
       for (int i = n_; i < m; ++i) zr[i] += w[i];
     }

@@ -37,10 +37,11 @@ struct Result {
   Eigen::VectorXd q_final;
 };
 
-Result SolveExample(const std::string& name, ConstraintMethod method) {
+Result SolveExample(const std::string& name, ConstraintMethod method, int threads = 1,
+                    int iterations = 15) {
   ExampleConfig config = LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
-  config.solver.max_iterations = 15;
-  config.solver.num_threads = 1;
+  config.solver.max_iterations = iterations;
+  config.solver.num_threads = threads;
   config.solver.constraint_method = method;
   TrajectoryOptimizer optimizer(config.model, config.problem, config.solver);
   Trajectory solution;
@@ -104,6 +105,19 @@ TEST(Baseline, EveryExampleMatchesThePreRedesignSolver) {
       EXPECT_LE((r.q_final - expected.q_final).norm(),
                 1e-9 * std::max(1.0, expected.q_final.norm()));
     }
+  }
+}
+
+// The examples whose KKT system is factored in two halves (block size n + nu >= 16): the two
+// halves on two threads give bitwise the results of one thread.
+TEST(Baseline, TwoHalfKktIsBitwiseEqualOnOneAndTwoThreads) {
+  for (const std::string name : {"quadruped", "allegro", "bimanual_lift"}) {
+    SCOPED_TRACE(name);
+    const Result one = SolveExample(name, ConstraintMethod::kLagrangeMultipliers, 1, 6);
+    const Result two = SolveExample(name, ConstraintMethod::kLagrangeMultipliers, 2, 6);
+    EXPECT_EQ(one.final_cost, two.final_cost);
+    ASSERT_EQ(one.q_final.size(), two.q_final.size());
+    EXPECT_TRUE(one.q_final == two.q_final) << (one.q_final - two.q_final).norm();
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <iostream>
 #include <tuple>
 #include <vector>
@@ -115,9 +116,10 @@ std::pair<double, double> BandedErrors(const KktProblem& P, int refinement_steps
   return {RelativeError(p, p_ref), RelativeError(lambda, lambda_ref)};
 }
 
+// The last four are factored in two halves (block size n + nu >= 16, N >= 8).
 const std::vector<std::tuple<int, int, int>> kSizes = {
-    {1, 3, 1}, {2, 3, 2},  {3, 4, 2},  {1, 4, 0},  {2, 4, 0}, {3, 4, 0},
-    {3, 3, 3}, {10, 4, 2}, {20, 9, 3}, {7, 23, 6}, {40, 2, 1}};
+    {1, 3, 1},  {2, 3, 2},  {3, 4, 2},  {1, 4, 0},  {2, 4, 0},  {3, 4, 0},   {3, 3, 3},  {10, 4, 2},
+    {20, 9, 3}, {7, 23, 6}, {40, 2, 1}, {8, 13, 3}, {9, 12, 4}, {15, 14, 2}, {12, 23, 6}};
 
 TEST(BlockConstraintJacobian, ProductsAgreeWithDense) {
   test::Random rng(1);
@@ -311,12 +313,16 @@ TEST(BandedKkt, NoAllocationAfterConstruction) {
     EXPECT_GT(counter.count(), 0);  // the counter counts
   }
   test::Random rng(9);
-  for (auto [N, n, nu] : {std::tuple{30, 4, 2}, std::tuple{10, 23, 6}, std::tuple{5, 9, 0}}) {
-    SCOPED_TRACE(::testing::Message() << "N=" << N << " n=" << n << " nu=" << nu);
+  for (auto [N, n, nu, threads] : {std::tuple{30, 4, 2, 1}, std::tuple{10, 23, 6, 1},
+                                   std::tuple{10, 23, 6, 2}, std::tuple{5, 9, 0, 2}}) {
+    SCOPED_TRACE(::testing::Message()
+                 << "N=" << N << " n=" << n << " nu=" << nu << " threads=" << threads);
     const KktProblem P = RandomProblem(N, n, nu, 100.0, 1.0, &rng);
     BandedKktSolver kkt(N, n, nu);
     kkt.set_refinement_steps(1);
+    kkt.set_num_threads(threads);
     Eigen::VectorXd p(N * n), lambda(N * nu), g_merit = P.g;
+    ASSERT_TRUE(kkt.Factor(P.H, P.A).ok());  // the process's thread pool starts on first use
     test::ScopedAllocationCounter counter;
     for (int i = 0; i < 2; ++i) {
       ASSERT_TRUE(kkt.Factor(P.H, P.A).ok());
@@ -325,6 +331,113 @@ TEST(BandedKkt, NoAllocationAfterConstruction) {
       P.A.AddMultiplyTranspose(lambda, &g_merit);
     }
     EXPECT_EQ(counter.count(), 0);
+  }
+}
+
+// Two halves (N = 10, block size 16: steps 0..3 forward, 9..6 backward, then 4 and 5): 1 and 2
+// threads give bitwise the same factorization and step, call after call.
+TEST(BandedKkt, TwoHalvesAreBitwiseEqualOnOneAndTwoThreads) {
+  test::Random rng(11);
+  const KktProblem P = RandomProblem(10, 13, 3, 1e4, 10.0, &rng);
+  BandedKktSolver one(10, 13, 3), two(10, 13, 3);
+  two.set_num_threads(2);
+  ASSERT_TRUE(one.Factor(P.H, P.A).ok());
+  Eigen::VectorXd p1, l1, p2, l2;
+  one.Solve(P.g, P.h, &p1, &l1);
+  for (int i = 0; i < 50; ++i) {
+    ASSERT_TRUE(two.Factor(P.H, P.A).ok());
+    two.Solve(P.g, P.h, &p2, &l2);
+    ASSERT_EQ(0, std::memcmp(p1.data(), p2.data(), sizeof(double) * p1.size())) << "call " << i;
+    ASSERT_EQ(0, std::memcmp(l1.data(), l2.data(), sizeof(double) * l1.size())) << "call " << i;
+  }
+  EXPECT_THROW(two.set_num_threads(0), std::invalid_argument);
+}
+
+// A constraint row that no configuration influences, in each part of a two-half factorization:
+// the forward half (step 1), the separator (steps 4 and 5), the backward half (step 8). The
+// status names the step and row, on 1 and 2 threads.
+TEST(BandedKkt, ZeroConstraintRowIsFoundAtItsStepInEveryPartOfTheTwoHalves) {
+  for (int step : {1, 4, 5, 8}) {
+    for (int threads : {1, 2}) {
+      SCOPED_TRACE(::testing::Message() << "step " << step << ", threads " << threads);
+      test::Random rng(12);
+      KktProblem P = RandomProblem(10, 13, 3, 10.0, 1.0, &rng);
+      for (int s = step - 1; s <= step + 1; ++s) {
+        if (P.A.HasBlock(step, s)) P.A.Block(step, s).row(2).setZero();
+      }
+      BandedKktSolver kkt(10, 13, 3);
+      kkt.set_num_threads(threads);
+      const KktStatus status = kkt.Factor(P.H, P.A);
+      EXPECT_EQ(status.code, KktStatus::Code::kConstraintsRankDeficient) << status.Message();
+      EXPECT_EQ(status.step, step);
+      EXPECT_EQ(status.row, 2);
+      Eigen::VectorXd p, lambda;
+      kkt.Solve(P.g, P.h, &p, &lambda);
+      EXPECT_TRUE(p.allFinite() && lambda.allFinite());
+    }
+  }
+}
+
+// Row 0 of h_7 (q_6, q_7, q_8) = 2 × row 0 of h_8 (q_7, q_8, q_9), both without q_6 and q_9. The
+// backward half eliminates step 8 first and finds row 0 of h_8 zero on q_9, its only variable
+// there; the forward order then decides, and finds the dependence at the later step, 8.
+TEST(BandedKkt, DependentRowsInTheBackwardHalfAreFoundAsInTheForwardOrder) {
+  test::Random rng(13);
+  KktProblem P = RandomProblem(10, 13, 3, 10.0, 1.0, &rng);
+  P.A.Block(7, 6).row(0).setZero();
+  P.A.Block(8, 9).row(0).setZero();
+  P.A.Block(7, 7).row(0) = 2.0 * P.A.Block(8, 7).row(0);
+  P.A.Block(7, 8).row(0) = 2.0 * P.A.Block(8, 8).row(0);
+  BandedKktSolver kkt(10, 13, 3);
+  const KktStatus status = kkt.Factor(P.H, P.A);
+  EXPECT_EQ(status.code, KktStatus::Code::kConstraintsRankDeficient) << status.Message();
+  EXPECT_EQ(status.step, 8);
+  EXPECT_EQ(status.row, 0);
+  EXPECT_NE(status.Message().find("row 0 of h_8"), std::string::npos) << status.Message();
+}
+
+// ∂h_j/∂q_{j+1} rank-deficient in the backward half (row 1 of h_7 and h_8 independent of their
+// newest configuration) while the system is regular: the two halves fail, the forward order
+// factors it, and the step equals the dense formula, on 1 and 2 threads.
+TEST(BandedKkt, NewestBlockRankDeficientInTheBackwardHalfIsSolvedInTheForwardOrder) {
+  for (int threads : {1, 2}) {
+    test::Random rng(15);
+    KktProblem P = RandomProblem(10, 13, 3, 10.0, 1.0, &rng);
+    P.A.Block(7, 8).row(1).setZero();
+    P.A.Block(8, 9).row(1).setZero();
+    BandedKktSolver kkt(10, 13, 3);
+    kkt.set_num_threads(threads);
+    const KktStatus status = kkt.Factor(P.H, P.A);
+    ASSERT_TRUE(status.ok()) << status.Message();
+    Eigen::VectorXd p, lambda, p_ref, lambda_ref;
+    kkt.Solve(P.g, P.h, &p, &lambda);
+    DenseOracle(P, &p_ref, &lambda_ref);
+    EXPECT_LT(RelativeError(p, p_ref), 1e-12);
+    EXPECT_LT(RelativeError(lambda, lambda_ref), 1e-12);
+  }
+}
+
+// An indefinite Hessian block in each half: the status names its step; when both halves fail,
+// the forward half's failure is the one reported, whatever the thread timing.
+TEST(BandedKkt, IndefiniteHessianInEitherHalfIsAStatus) {
+  for (int threads : {1, 2}) {
+    SCOPED_TRACE(::testing::Message() << "threads " << threads);
+    test::Random rng(14);
+    KktProblem P = RandomProblem(10, 13, 3, 10.0, 1.0, &rng);
+    P.H.C(8)(3, 3) = -100.0;
+    BandedKktSolver kkt(10, 13, 3);
+    kkt.set_num_threads(threads);
+    KktStatus status = kkt.Factor(P.H, P.A);
+    EXPECT_EQ(status.code, KktStatus::Code::kHessianNotPositiveDefinite);
+    EXPECT_EQ(status.step, 8);
+    P.H.C(2)(0, 0) = -100.0;
+    status = kkt.Factor(P.H, P.A);
+    EXPECT_EQ(status.code, KktStatus::Code::kHessianNotPositiveDefinite);
+    EXPECT_EQ(status.step, 2);
+    Eigen::VectorXd p, lambda;
+    kkt.Solve(P.g, P.h, &p, &lambda);
+    EXPECT_TRUE(p.allFinite() && lambda.allFinite());
+    EXPECT_EQ(p.norm(), 0.0);
   }
 }
 

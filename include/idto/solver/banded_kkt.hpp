@@ -12,9 +12,10 @@
 /// q_{j−1}, q_j, q_{j+1}. Interleaving the unknowns per step, x_r = (p_r, λ_r) with p_r the
 /// step of q_{r+1}, makes the KKT matrix block-pentadiagonal with blocks of size n + nu; it is
 /// factored by a block LDLᵀ whose pivot blocks are factored by a nested Schur complement (two
-/// Cholesky factorizations). docs/solver.md ("Lagrange multipliers in O(N)") explains why this
-/// never breaks down when H is positive definite and A has full row rank, and what the status
-/// says when it does not.
+/// Cholesky factorizations). From blocks of 16 and 8 steps the elimination runs from both ends
+/// of the horizon towards two separator steps in the middle (one thread per half). docs/solver.md
+/// ("Lagrange multipliers in O(N)", "Two halves") explains why this never breaks down when H is
+/// positive definite and A has full row rank, and what the status says when it does not.
 
 #include <string>
 #include <vector>
@@ -147,10 +148,21 @@ class BandedKktSolver {
   double rank_tolerance() const { return rank_tolerance_; }
   void set_rank_tolerance(double tolerance) { rank_tolerance_ = tolerance; }
 
+  /// Threads of Factor (default 1; 2 is the most it uses). From a block size n + nu of 16 and
+  /// N >= 8 steps, the factorization runs from both ends of the horizon towards the middle
+  /// (docs/solver.md, "Two halves"); with 2 threads the two halves are factored at once. The
+  /// arithmetic does not depend on the thread count: results are bitwise equal for any value.
+  /// A second thread that starts late costs nothing (the calling thread then factors both
+  /// halves).
+  int num_threads() const { return num_threads_; }
+  /// Throws InvalidArgument unless 1 <= threads <= 256.
+  void set_num_threads(int threads);
+
   /// Factors [H Aᵀ; A 0]. H: N blocks of n × n, positive definite; A: N × N blocks of nu × n.
   /// Throws InvalidArgument on sizes that differ from the solver's. Returns the status: success,
   /// or the failing step and block and why; the factors are then unusable (never NaN results:
-  /// Solve on a failed factorization sets p and λ to zero).
+  /// Solve on a failed factorization sets p and λ to zero). When the two-half order fails, the
+  /// system is factored again in the forward order, whose status is returned.
   KktStatus Factor(const PentaDiagonalMatrix& H, const BlockConstraintJacobian& A);
   const KktStatus& status() const { return status_; }
 
@@ -166,15 +178,45 @@ class BandedKktSolver {
                 const Eigen::VectorXd& lambda, Eigen::VectorXd* rp, Eigen::VectorXd* rl);
 
  private:
+  // Scratch of one half of the factorization (each half runs on its own thread): T1 = V(r, c1)
+  // of the step last eliminated, T2 = V(r, c2) (m × m); scales (m): the pivot test's scales,
+  // the Hessian part's diagonal before elimination and the constraint rows' squared norms in
+  // the metric of H⁻¹; the half's status.
+  struct Half {
+    Eigen::MatrixXd T1, T2;
+    Eigen::VectorXd scales;
+    KktStatus status;
+  };
   // Pivot block r: D_r = [P Qᵀ; Q R] (n + nu) = F_r Σ F_rᵀ with F_r = [Lp 0; Y Ls] lower
   // triangular, Σ = diag(I_n, −I_nu): P = Lp Lpᵀ, Y = Q Lp⁻ᵀ, Y Yᵀ − R = Ls Lsᵀ. In place in
-  // F_[r], which holds D_r's lower triangle on entry.
-  bool FactorPivot(int r);
-  // Adds the p-part's squared column norms of Vt's constraint columns to the rank test's scale
-  // (diagonal_'s last nu entries).
-  void AddConstraintScale(const Eigen::MatrixXd& Vt);
-  // K(r, c)ᵀ (m × m) for c = r − 1, r − 2, from H_ and A_.
-  void AssembleOffDiagonalTransposed(int r, int c, Eigen::MatrixXd* Kt) const;
+  // F_[r], which holds D_r's lower triangle on entry; scales (m) as in Half. On failure, sets
+  // *status and returns false.
+  bool FactorPivot(int r, double* scales, KktStatus* status);
+  // Adds the p-part's squared column norms of Vt's constraint columns to the rank test's scales
+  // (the last nu entries of scales).
+  void AddConstraintScale(const Eigen::MatrixXd& Vt, double* scales) const;
+  // The block K(c, r) (m × m) for a neighbour c of r (|c − r| = 1 or 2): K(r, c)ᵀ.
+  void AssembleCoupling(int r, int c, Eigen::MatrixXd* Kt) const;
+  // The elimination of step r against its second-previous step c2 (< 0: none) in the half's
+  // order: *D = K(r, r)'s lower triangle (zero when !diagonal), the constraint scales zeroed;
+  // *Vt2 = F_c2⁻¹ K(c2, r); *D −= Vt2ᵀ Σ Vt2. scales (m): step r's, as in Half.
+  void EliminateSecond(int r, int c2, bool diagonal, Eigen::MatrixXd* D, Eigen::MatrixXd* Vt2,
+                       double* scales, Half* half) const;
+  // Then against its previous step c1 (< 0: none): *Vt1 = F_c1⁻¹ (K(c1, r) − T1 Σ Vt2) with T1
+  // = V(c1, c2) (Vt2 == nullptr: no c2); *D −= Vt1ᵀ Σ Vt1; T1 = Vt1ᵀ.
+  void EliminateFirst(int r, int c1, const Eigen::MatrixXd* Vt2, Eigen::MatrixXd* D,
+                      Eigen::MatrixXd* Vt1, double* scales, Half* half) const;
+  // Steps [0, split_) forward and their part of the separator steps split_, split_ + 1.
+  void FactorForwardHalf();
+  // Steps [split_ + 2, N) backward (from N − 1) and their part of the separator.
+  void FactorBackwardHalf();
+  // The separator's two pivots, from both halves' parts.
+  bool FactorSeparator();
+  // V(r, c)ᵀ for a step c eliminated before its neighbour r.
+  const Eigen::MatrixXd& Coupling(int r, int c) const;
+  // Elimination order: the position of step r, and the step at position e.
+  int Position(int r) const;
+  int StepAt(int e) const;
   // Solves the interleaved system in place in z_ (N (n + nu)).
   void SolveInterleavedInPlace();
   void SolveOnce(const Eigen::VectorXd& g, const Eigen::VectorXd& h, Eigen::VectorXd* p,
@@ -185,6 +227,12 @@ class BandedKktSolver {
   int nu_{0};
   int m_{0};  // n + nu
   int refinement_steps_{1};
+  int num_threads_{1};
+  // Steps [0, split_) are eliminated forward, [split_ + 2, N) backward, split_ and split_ + 1
+  // last; split_ = N: all forward. The last Factor's order: two_half_split_ (N for small blocks
+  // or short horizons), or N when the two halves failed.
+  int split_{0};
+  int two_half_split_{0};
   bool extended_residual_{false};
   double rank_tolerance_{1e-14};
   KktStatus status_;
@@ -196,11 +244,14 @@ class BandedKktSolver {
   std::vector<Eigen::MatrixXd> Vt1_, Vt2_;
   // F_[r] (m × m lower triangular, the upper triangle zero).
   std::vector<Eigen::MatrixXd> F_;
-  // Work (m × m): T1_ = V(r, r−1) of the last step factored (Vt1_[r]ᵀ, read by the next step),
-  // T2_ = V(r, r−2); diagonal_ (m): the pivot test's scales, the Hessian part's diagonal before
-  // elimination and the constraint rows' squared norms in the metric of H⁻¹.
-  Eigen::MatrixXd T1_, T2_;
-  Eigen::VectorXd diagonal_;
+  // The separator's parts from the backward half: E_[i] (m × m) its update of D_{split_ + i},
+  // Wt_[0] = V(split_, split_ + 2)ᵀ, Wt_[1] = V(split_ + 1, split_ + 3)ᵀ, Wt1_ = V(split_ + 1,
+  // split_ + 2)ᵀ, C_ = −V(split_, split_ + 2) Σ V(split_ + 1, split_ + 2)ᵀ (its part of U(k + 1,
+  // k)ᵀ); separator_scales_[h][i] (m): half h's part of the rank-test scales of step
+  // split_ + i.
+  Eigen::MatrixXd E_[2], Wt_[2], Wt1_, C_;
+  Eigen::VectorXd separator_scales_[2][2];
+  Half half_[2];  // forward, backward
   // 1 / F_r(i, i) for every step (N m), written by FactorPivot.
   Eigen::VectorXd inverse_diagonal_;
   const double* InverseDiagonal(int r) const {
