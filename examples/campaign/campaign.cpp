@@ -174,7 +174,7 @@ std::string FailureMode(const std::string& example, const examples::TaskResult& 
 }
 
 RunResult RunOne(const CampaignSettings& settings, const ExampleConfig& config, int run_index,
-                 std::uint64_t seed) {
+                 std::uint64_t seed, std::string* trajectory_csv) {
   RunResult result;
   result.run_index = run_index;
   RunConditions& c = result.conditions;
@@ -225,6 +225,7 @@ RunResult RunOne(const CampaignSettings& settings, const ExampleConfig& config, 
   const SolverSummary first =
       controller.Initialize(examples::ClosedLoopInitialGuess(config), mpc.initial_iterations);
   const mpc::ClosedLoopLog log = mpc::RunClosedLoop(model, cl, &controller, plant.get());
+  if (trajectory_csv != nullptr) *trajectory_csv = log.ToCsv(model);
   const examples::TaskResult task = examples::EvaluateClosedLoopTask(config, log);
   result.success = task.task_success;
   result.criterion = task.criterion;
@@ -239,7 +240,11 @@ RunResult RunOne(const CampaignSettings& settings, const ExampleConfig& config, 
     if (first.termination == TerminationType::kFailure) {
       result.failure_mode = "solver failure";
     } else if (!log.failure.empty()) {
-      result.failure_mode = "plant failure";
+      // The parts of the criterion already failed when the plant gave up (a quadruped that fell
+      // and thrashed on its back until MuJoCo diverged reads "tilt+speed, then plant failure";
+      // "height" is FailureMode's answer when no listed part failed).
+      const std::string before = FailureMode(config.name, task);
+      result.failure_mode = (before == "height" ? "" : before + ", then ") + "plant failure";
     } else {
       result.failure_mode = FailureMode(config.name, task);
     }

@@ -93,9 +93,11 @@ Model ScaleMasses(const Model& model, const std::vector<double>& scale);
 
 /// Runs the closed loop of `config` under the conditions drawn from `seed` against the MuJoCo
 /// plant (a copy of the model with scaled masses and friction; the controller keeps the
-/// nominal model) and judges it by the example's closed-loop task criterion.
+/// nominal model) and judges it by the example's closed-loop task criterion. trajectory_csv:
+/// when not null, receives the run's log (mpc::ClosedLoopLog::ToCsv: t, q, v, u and the contact
+/// flags every `mpc.log_every` plant steps), to see how a run failed.
 RunResult RunOne(const CampaignSettings& settings, const ExampleConfig& config, int run_index,
-                 std::uint64_t seed);
+                 std::uint64_t seed, std::string* trajectory_csv = nullptr);
 
 /// The failed parts of `task`'s criterion for `example` ("" when it succeeded).
 std::string FailureMode(const std::string& example, const examples::TaskResult& task);

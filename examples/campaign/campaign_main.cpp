@@ -5,7 +5,8 @@
 //                 [--threads T] [--iterations-per-step K] [--latency S] [--jitter S] [--max-impulse
 //                 X] [--mismatch F]
 //                 [--noise F] [--initial F]
-//   idto-campaign NAME --run-index I --seed S --json FILE      (one run: seed S + I)
+//   idto-campaign NAME --run-index I --seed S --json FILE [--trajectory-csv FILE]
+//                 (one run: seed S + I; its closed-loop log as CSV)
 //   idto-campaign --merge FILE... [--json FILE] [--markdown FILE]
 //
 // Run i uses the seed S + i: its conditions (campaign.hpp) and everything random in its closed
@@ -65,6 +66,9 @@ const char kUsage[] =
     "  --seed S            seed of run 0 (an integer >= 0)\n"
     "  --jobs J            run J child processes at a time (J >= 1, default 1: in process)\n"
     "  --run-index I       run only run I (seed S + I) and write it with --json\n"
+    "  --trajectory-csv FILE\n"
+    "                      with --run-index: also write the run's closed-loop log (t, q,\n"
+    "                      v, u, contacts) as CSV\n"
     "  --merge FILE...     merge JSON files written by idto-campaign (runs or shards)\n"
     "  --json FILE         write the runs and the summary as JSON\n"
     "  --markdown FILE     write the summary as Markdown tables\n"
@@ -96,7 +100,7 @@ struct Arguments {
   std::optional<double> latency, jitter, max_impulse, mismatch, noise, initial;
   std::vector<std::string> merge;
   bool merging{false};
-  std::string json, markdown;
+  std::string json, markdown, trajectory_csv;
   bool quiet{false};
   bool help{false};
 };
@@ -134,6 +138,24 @@ double ParseNonNegative(const std::string& flag, const std::string& text, double
         below < 1e300 ? "a number in [0, " + std::to_string(below) + ")" : "a number >= 0");
   }
   return v;
+}
+
+// Two outputs on one path would overwrite each other: refuse, naming both options.
+void CheckDistinctOutputs(const Arguments& a) {
+  const std::vector<std::pair<std::string, std::string>> outputs = {
+      {"--json", a.json}, {"--markdown", a.markdown}, {"--trajectory-csv", a.trajectory_csv}};
+  for (size_t i = 0; i < outputs.size(); ++i) {
+    for (size_t j = i + 1; j < outputs.size(); ++j) {
+      if (outputs[i].second.empty() || outputs[j].second.empty()) continue;
+      std::error_code error;
+      const auto first = std::filesystem::weakly_canonical(outputs[i].second, error);
+      const auto second = std::filesystem::weakly_canonical(outputs[j].second, error);
+      if (outputs[i].second == outputs[j].second || (!error && first == second)) {
+        throw UsageError{outputs[i].first + " and " + outputs[j].first + " name the same file '" +
+                         outputs[j].second + "'"};
+      }
+    }
+  }
 }
 
 Arguments ParseArguments(int argc, char** argv) {
@@ -177,6 +199,8 @@ Arguments ParseArguments(int argc, char** argv) {
       a.json = value();
     } else if (arg == "--markdown") {
       a.markdown = value();
+    } else if (arg == "--trajectory-csv") {
+      a.trajectory_csv = value();
     } else if (arg == "--merge") {
       a.merging = true;
       while (i + 1 < argc && std::strncmp(argv[i + 1], "--", 2) != 0) a.merge.push_back(argv[++i]);
@@ -209,7 +233,10 @@ Arguments ParseArguments(int argc, char** argv) {
     if (a.json.empty()) throw UsageError{"--run-index needs --json FILE"};
   } else if (!a.runs) {
     throw UsageError{"missing --runs N"};
+  } else if (!a.trajectory_csv.empty()) {
+    throw UsageError{"--trajectory-csv needs --run-index (one run's log)"};
   }
+  CheckDistinctOutputs(a);
   return a;
 }
 
@@ -361,7 +388,10 @@ int Run(const Arguments& a, const char* argv0) {
       idto::LoadExampleConfig(idto::FindExampleConfig(a.name, share_dirs), share_dirs);
   std::vector<RunResult> runs;
   if (a.run_index) {
-    runs.push_back(idto::campaign::RunOne(settings, config, *a.run_index, *a.seed + *a.run_index));
+    std::string csv;
+    runs.push_back(idto::campaign::RunOne(settings, config, *a.run_index, *a.seed + *a.run_index,
+                                          a.trajectory_csv.empty() ? nullptr : &csv));
+    if (!a.trajectory_csv.empty()) WriteText(a.trajectory_csv, csv);
   } else if (a.jobs.value_or(1) > 1) {
     runs = RunChildren(a, argv0);
     if (!a.quiet) {
