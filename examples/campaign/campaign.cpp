@@ -164,7 +164,11 @@ std::string FailureMode(const std::string& example, const examples::TaskResult& 
     if (MetricOr(task, "flight_phases", 0.0) < 2.0) Append("flights", &mode);
     if (MetricOr(task, "max_pitch_change_rad", 0.0) >= 1.0) Append("pitch", &mode);
   } else if (example == "allegro") {
-    if (MetricOr(task, "min_orientation_error_rad", 1e9) >= 0.2) Append("not reached", &mode);
+    if (MetricOr(task, "min_orientation_error_rad", 1e9) >= 0.2) {
+      Append("not reached", &mode);
+    } else if (MetricOr(task, "max_orientation_error_last_3_s_rad", 1e9) >= 0.2) {
+      Append("not held", &mode);
+    }
     if (MetricOr(task, "max_ball_drift_m", 0.0) >= 0.05) Append("ball drifted", &mode);
   } else if (example == "bimanual_lift") {
     Append("box not held", &mode);
