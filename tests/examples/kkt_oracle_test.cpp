@@ -104,6 +104,8 @@ void CompareAt(const ExampleConfig& config, const std::vector<Eigen::VectorXd>& 
   BandedKktSolver kkt(N, n, nu);
   const KktStatus status = kkt.Factor(H, A);
   ASSERT_TRUE(status.ok()) << status.Message();
+  // Blocks of 16 and more over 8 and more steps: the two-half order, with no fallback.
+  EXPECT_EQ(kkt.factored_in_two_halves(), n + nu >= 16 && N >= 8);
   Step banded, extended;
   kkt.Solve(g, h, &banded.p, &banded.lambda);
   kkt.set_extended_residual(true);

@@ -417,6 +417,35 @@ TEST(BandedKkt, NewestBlockRankDeficientInTheBackwardHalfIsSolvedInTheForwardOrd
   }
 }
 
+// ∂h_j/∂q_{j+1} weak against h_j's other blocks (all scaled by eps): in the backward order the
+// constraint pivots see only that block, so their growth is about 1 / eps² while the rank test
+// still passes. Below a ratio of 1e-6 between a pivot and its row's full norm the forward order
+// factors instead; either way the refined step stays close to the dense formula.
+TEST(BandedKkt, WeakNewestConstraintBlocksAreFactoredAccurately) {
+  for (double eps : {1e-1, 1e-2, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8}) {
+    SCOPED_TRACE(::testing::Message() << "eps " << eps);
+    test::Random rng(16);
+    KktProblem P = RandomProblem(12, 13, 3, 10.0, 1.0, &rng);
+    for (int j = 0; j < 12; ++j) P.A.Block(j, j + 1) *= eps;
+    BandedKktSolver kkt(12, 13, 3);
+    kkt.set_num_threads(2);
+    ASSERT_TRUE(kkt.Factor(P.H, P.A).ok()) << kkt.status().Message();
+    Eigen::VectorXd p, lambda, p_ref, lambda_ref;
+    kkt.Solve(P.g, P.h, &p, &lambda);
+    DenseOracle(P, &p_ref, &lambda_ref);
+    const double ep = RelativeError(p, p_ref), el = RelativeError(lambda, lambda_ref);
+    std::cout << "eps " << eps << ": two halves " << kkt.factored_in_two_halves()
+              << ", relative error p " << ep << ", lambda " << el << "\n";
+    EXPECT_LT(ep, 1e-10);
+    EXPECT_LT(el, 1e-10);
+    if (eps >= 1e-2) {
+      EXPECT_TRUE(kkt.factored_in_two_halves());
+    } else if (eps <= 1e-4) {
+      EXPECT_FALSE(kkt.factored_in_two_halves());
+    }
+  }
+}
+
 // An indefinite Hessian block in each half: the status names its step; when both halves fail,
 // the forward half's failure is the one reported, whatever the thread timing.
 TEST(BandedKkt, IndefiniteHessianInEitherHalfIsAStatus) {

@@ -107,7 +107,8 @@ struct KktStatus {
 };
 
 /// Factors and solves the IDTO KKT system in O(N (n + nu)³) time and O(N (n + nu)²) memory,
-/// with no heap allocation after construction (for a fixed size).
+/// with no heap allocation after construction (for a fixed size; the process-wide thread pool
+/// starts its worker, once, on the first two-thread Factor).
 ///
 /// Usage: `BandedKktSolver kkt(N, n, nu); KktStatus s = kkt.Factor(H, A);
 /// if (s.ok()) kkt.Solve(g, h, &p, &lambda);` H and A must stay alive and unchanged until the
@@ -165,6 +166,9 @@ class BandedKktSolver {
   /// system is factored again in the forward order, whose status is returned.
   KktStatus Factor(const PentaDiagonalMatrix& H, const BlockConstraintJacobian& A);
   const KktStatus& status() const { return status_; }
+  /// Whether the last Factor used the two-half order (false: the forward order, for small blocks,
+  /// short horizons, or because the two halves failed or met a weak pivot).
+  bool factored_in_two_halves() const { return split_ < num_steps_; }
 
   /// The solution of H p + Aᵀ λ = −g, A p = −h. g: N n; h: N nu; p: N n; lambda: N nu (outputs
   /// resized, no allocation when already sized). Requires status().ok(), else p = λ = 0.
@@ -186,6 +190,7 @@ class BandedKktSolver {
     Eigen::MatrixXd T1, T2;
     Eigen::VectorXd scales;
     KktStatus status;
+    bool weak_pivot{false};  // backward half: a constraint pivot failed BackwardPivotsWellScaled
   };
   // Pivot block r: D_r = [P Qᵀ; Q R] (n + nu) = F_r Σ F_rᵀ with F_r = [Lp 0; Y Ls] lower
   // triangular, Σ = diag(I_n, −I_nu): P = Lp Lpᵀ, Y = Q Lp⁻ᵀ, Y Yᵀ − R = Ls Lsᵀ. In place in
@@ -210,6 +215,11 @@ class BandedKktSolver {
   void FactorForwardHalf();
   // Steps [split_ + 2, N) backward (from N − 1) and their part of the separator.
   void FactorBackwardHalf();
+  // In the backward order step r's constraint pivots see only ∂h_r/∂q_{r+1}. True when every
+  // pivot d_u (the squared diagonal of Ls) is at least kBackwardPivotRatio times row u's squared
+  // norm over all three blocks of h_r in the metric of diag(H)⁻¹; a smaller one passes the rank
+  // test (its scale is as small) but brings growth of order 1 / d_u (docs/solver.md).
+  bool BackwardPivotsWellScaled(int r) const;
   // The separator's two pivots, from both halves' parts.
   bool FactorSeparator();
   // V(r, c)ᵀ for a step c eliminated before its neighbour r.
