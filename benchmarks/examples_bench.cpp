@@ -5,8 +5,12 @@
 // Each benchmark iteration is one solver iteration (SolveWarmStart, max_iterations = 1,
 // fixed_iterations) from the example's initial guess after 5 warm-up iterations; the cost
 // re-evaluation at the start of each call is included. Counters: the per-phase breakdown in µs.
-// Names: "examples/<name>/<penalty|lagrange>/<analytic|forward>/threads:<T>".
+// Names: "examples/<name>/<penalty|lagrange>/<analytic|forward>/threads:<T>", and
+// "examples/<name>/lagrange_double_residual/analytic/threads:<T>": the KKT refinement's residual
+// in double only (solver.kkt_extended_threshold infinite), the peer of the default's adaptive
+// double-double step.
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -18,7 +22,7 @@
 namespace {
 
 void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool lagrange,
-                         idto::DerivativeMethod derivatives) {
+                         idto::DerivativeMethod derivatives, bool double_residual) {
   const int threads = static_cast<int>(state.range(0));
   idto::ExampleConfig config;
   try {
@@ -33,6 +37,7 @@ void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool 
   o.constraint_method =
       lagrange ? idto::ConstraintMethod::kLagrangeMultipliers : idto::ConstraintMethod::kPenalty;
   o.derivative_method = derivatives;
+  if (double_residual) o.kkt_extended_threshold = std::numeric_limits<double>::infinity();
   o.max_iterations = 5;
   o.fixed_iterations = true;
   idto::TrajectoryOptimizer opt(config.model, config.problem, o);
@@ -48,17 +53,22 @@ void Register() {
   for (const std::string name :
        {"pendulum", "acrobot", "spinner", "hopper", "quadruped", "quadruped_hills", "allegro",
         "bimanual", "bimanual_lift", "bimanual_balance", "quadruped_limits", "allegro_limits"}) {
-    for (bool lagrange : {false, true}) {
+    // 0: penalty, 1: Lagrange, 2: Lagrange with the residual in double only.
+    for (int variant : {0, 1, 2}) {
+      const bool lagrange = variant > 0, double_residual = variant == 2;
       if (name == "pendulum" && lagrange) continue;
       for (const auto method :
            {idto::DerivativeMethod::kAnalytic, idto::DerivativeMethod::kForwardDifferences}) {
+        if (double_residual && method != idto::DerivativeMethod::kAnalytic) continue;
         const std::string bench =
-            "examples/" + name + "/" + (lagrange ? "lagrange" : "penalty") +
+            "examples/" + name + "/" +
+            (variant == 0 ? "penalty" : (variant == 1 ? "lagrange" : "lagrange_double_residual")) +
             (method == idto::DerivativeMethod::kAnalytic ? "/analytic" : "/forward");
-        benchmark::RegisterBenchmark(bench.c_str(),
-                                     [name, lagrange, method](benchmark::State& s) {
-                                       BM_ExampleIteration(s, name, lagrange, method);
-                                     })
+        benchmark::RegisterBenchmark(
+            bench.c_str(),
+            [name, lagrange, method, double_residual](benchmark::State& s) {
+              BM_ExampleIteration(s, name, lagrange, method, double_residual);
+            })
             ->ArgName("threads")
             ->Arg(1)
             ->Arg(2)

@@ -12,12 +12,14 @@
 // Names: "solver/<problem>/<penalty|lagrange>/threads:<T>/N:<N>".
 //
 // The KKT step alone (issue 17) on random problems of the sizes of the examples, over the same
-// horizons: "solver/kkt/<size>/<route>/N:<N>", size acrobot (n = 4, nu = 2), ball_finger
-// (n = 9, nu = 3) or allegro (n = 23, nu = 6); route
+// horizons: "solver/kkt/<size>/<route>/N:<N>", size acrobot (n = 4, nu = 2), hopper (n = 5,
+// nu = 3), ball_finger (n = 9, nu = 3) or allegro (n = 23, nu = 6); route
 //   banded:   BandedKktSolver::Factor + Solve (λ and the Newton step p) + g_merit = g + Aᵀλ,
-//             with the default one step of iterative refinement (banded_unrefined: none;
-//             banded_extended: its residual in double-double; banded_2threads: as banded,
-//             with BandedKktSolver::set_num_threads(2));
+//             with one step of iterative refinement, its residual in double (banded_unrefined:
+//             none; banded_extended: two steps with the residual in double-double;
+//             banded_adaptive_taken: the step in double, then one in double-double, as the
+//             default does when the first correction exceeds extended_threshold();
+//             banded_2threads: as banded, with BandedKktSolver::set_num_threads(2));
 //   dense:    today's route: block Cholesky of H, Y = L⁻¹Aᵀ, A H⁻¹ Aᵀ = YᵀY dense and its LLT,
 //             λ, g_merit and p = −H⁻¹ g_merit (Aᵀ filled densely as CalcConstraints does);
 //             not run for allegro at N = 320 (about 10 s and 0.3 GB);
@@ -26,6 +28,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 #include <vector>
@@ -197,13 +200,16 @@ KktProblem RandomKktProblem(int N, int n, int nu) {
   return P;
 }
 
-void BM_KktBanded(benchmark::State& state, int n, int nu, int refinement_steps,
-                  bool extended = false, int threads = 1) {
+// extended: 0 the residual in double (the threshold infinite), 1 always in double-double (two
+// steps), 2 a step in double then one in double-double (the default's adaptive step, taken).
+void BM_KktBanded(benchmark::State& state, int n, int nu, int refinement_steps, int extended = 0,
+                  int threads = 1) {
   const int N = static_cast<int>(state.range(0));
   const KktProblem P = RandomKktProblem(N, n, nu);
   idto::BandedKktSolver kkt(N, n, nu);
   kkt.set_refinement_steps(refinement_steps);
-  kkt.set_extended_residual(extended);
+  kkt.set_extended_residual(extended == 1);
+  kkt.set_extended_threshold(extended == 2 ? 0.0 : std::numeric_limits<double>::infinity());
   kkt.set_num_threads(threads);
   Eigen::VectorXd p(N * n), lambda(N * nu), g_merit(N * n);
   for (auto _ : state) {
@@ -275,8 +281,8 @@ void RegisterKkt() {
     const char* name;
     int n, nu;
   };
-  for (const Size size :
-       {Size{"acrobot", 4, 2}, Size{"ball_finger", 9, 3}, Size{"allegro", 23, 6}}) {
+  for (const Size size : {Size{"acrobot", 4, 2}, Size{"hopper", 5, 3}, Size{"ball_finger", 9, 3},
+                          Size{"allegro", 23, 6}}) {
     const std::string prefix = std::string("solver/kkt/") + size.name + "/";
     const int n = size.n;
     const int nu = size.nu;
@@ -287,15 +293,18 @@ void RegisterKkt() {
                                      [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 0); });
     auto* extended = benchmark::RegisterBenchmark(
         (prefix + "banded_extended").c_str(),
-        [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, true); });
+        [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, 1); });
+    auto* adaptive = benchmark::RegisterBenchmark(
+        (prefix + "banded_adaptive_taken").c_str(),
+        [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, 2); });
     auto* two_threads = benchmark::RegisterBenchmark(
         (prefix + "banded_2threads").c_str(),
-        [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, false, 2); });
+        [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, 0, 2); });
     auto* dense = benchmark::RegisterBenchmark(
         (prefix + "dense").c_str(), [n, nu](benchmark::State& s) { BM_KktDense(s, n, nu); });
     auto* chol = benchmark::RegisterBenchmark((prefix + "cholesky").c_str(),
                                               [n](benchmark::State& s) { BM_KktCholesky(s, n); });
-    for (auto* b : {banded, unrefined, extended, two_threads, dense, chol}) {
+    for (auto* b : {banded, unrefined, extended, adaptive, two_threads, dense, chol}) {
       b->ArgNames({"N"})->Unit(benchmark::kMicrosecond)->UseRealTime();
       for (int N : {10, 20, 40, 80, 160, 320}) {
         if (b == dense && n * N > 23 * 160) continue;

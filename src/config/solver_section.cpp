@@ -16,7 +16,8 @@ const std::vector<std::string> kSolverKeys = {"max_iterations",    "num_threads"
                                               "max_trust_radius",  "acceptance_ratio",
                                               "cost_tolerance",    "gradient_tolerance",
                                               "step_tolerance",    "fixed_iterations",
-                                              "verbosity",         "kkt_extended_residual"};
+                                              "verbosity",         "kkt_extended_residual",
+                                              "kkt_extended_threshold"};
 
 static_assert(static_cast<int>(ConstraintMethod::kNone) == 0 &&
                   static_cast<int>(ConstraintMethod::kPenalty) == 1 &&
@@ -57,6 +58,7 @@ void ConfigLoader::LoadSolver(const YAML::Node& node, const std::string& path) {
   o.step_tolerance = s.NonNegative("step_tolerance", o.step_tolerance);
   o.fixed_iterations = s.Bool("fixed_iterations", o.fixed_iterations);
   o.kkt_extended_residual = s.Bool("kkt_extended_residual", o.kkt_extended_residual);
+  o.kkt_extended_threshold = s.NonNegative("kkt_extended_threshold", o.kkt_extended_threshold);
   o.verbosity = s.Int("verbosity", o.verbosity, 0);
   std::string why;
   if (!o.IsValid(&why)) reader_.Fail(s.node(), s.path(), "invalid options: " + why);

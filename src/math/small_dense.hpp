@@ -122,38 +122,56 @@ inline void AddTimes(const double* A, int lda, int rows, int cols, const double*
   }
 }
 
-/// The rounding error of product = fl(a b): a b = product + error exactly (no overflow). With an
-/// fma instruction (-mfma, IDTO_NATIVE on an FMA machine) one fma; without one, std::fma is the C
-/// library's software emulation, so Dekker's product with Veltkamp's splitting is used: exact in
-/// IEEE double without fused operations (the extended-residual KKT step measured 1.2–1.5× faster
-/// than with std::fma in the default build, docs/solver.md).
-inline double TwoProductError(double a, double b, double product) {
-#ifdef __FMA__
-  return std::fma(a, b, -product);
-#else
-  constexpr double kSplitter = 134217729.0;  // 2^27 + 1
-  const double ta = kSplitter * a;
-  const double a_hi = ta - (ta - a);
-  const double a_lo = a - a_hi;
-  const double tb = kSplitter * b;
-  const double b_hi = tb - (tb - b);
-  const double b_lo = b - b_hi;
-  return ((a_hi * b_hi - product) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
-#endif
+/// The rounding error of product = fl(a b): a b = product + error exactly (no overflow).
+/// kFma: one fma (__builtin_fma: an fma instruction where the caller is compiled for one, e.g.
+/// src/solver/extended_residual.cpp's fma variant; otherwise the C library's software fma).
+/// !kFma: Dekker's product with Veltkamp's splitting, exact in IEEE double without fused
+/// operations (the extended-residual KKT step measured 1.2–1.5× faster than the software fma,
+/// docs/solver.md). Both are exact, so both give the same bits.
+template <bool kFma>
+inline double TwoProductErrorWith(double a, double b, double product) {
+  if constexpr (kFma) {
+    return __builtin_fma(a, b, -product);
+  } else {
+    constexpr double kSplitter = 134217729.0;  // 2^27 + 1
+    const double ta = kSplitter * a;
+    const double a_hi = ta - (ta - a);
+    const double a_lo = a - a_hi;
+    const double tb = kSplitter * b;
+    const double b_hi = tb - (tb - b);
+    const double b_lo = b - b_hi;
+    return ((a_hi * b_hi - product) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
+  }
 }
 
-/// (hi + lo) ← (hi + lo) − a b in double-double arithmetic: the product is split exactly by an
-/// TwoProductError, the sum by Knuth's TwoSum; the low parts' own rounding is of order ε |lo|.
+#ifdef __FMA__
+constexpr bool kBuildHasFma = true;
+#else
+constexpr bool kBuildHasFma = false;
+#endif
+
+/// TwoProductErrorWith for the build's instruction set (-mfma, IDTO_NATIVE on an FMA machine).
+inline double TwoProductError(double a, double b, double product) {
+  return TwoProductErrorWith<kBuildHasFma>(a, b, product);
+}
+
+/// (hi + lo) ← (hi + lo) − a b in double-double arithmetic: the product is split exactly by
+/// TwoProductErrorWith, the sum by Knuth's TwoSum; the low parts' own rounding is of order ε |lo|.
 /// Requires that the compiler does not contract these expressions into fmas (CMakeLists.txt
-/// compiles banded_kkt.cpp, its one user, with -ffp-contract=off).
-inline void SubtractProductExactly(double a, double b, double* hi, double* lo) {
+/// compiles its users with -ffp-contract=off).
+template <bool kFma>
+inline void SubtractProductExactlyWith(double a, double b, double* hi, double* lo) {
   const double product = a * b;
-  const double product_error = TwoProductError(a, b, product);  // a b = product + product_error
+  const double product_error = TwoProductErrorWith<kFma>(a, b, product);  // a b = product + error
   const double sum = *hi - product;
   const double virtual_b = sum - *hi;
   const double sum_error = (*hi - (sum - virtual_b)) + (-product - virtual_b);
   *hi = sum;
   *lo += sum_error - product_error;
+}
+
+inline void SubtractProductExactly(double a, double b, double* hi, double* lo) {
+  SubtractProductExactlyWith<kBuildHasFma>(a, b, hi, lo);
 }
 
 /// T = Xᵀ. X: rows × cols; T: cols × rows.

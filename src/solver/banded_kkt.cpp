@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "core/parallel.hpp"
 #include "idto/core/errors.hpp"
 #include "math/small_dense.hpp"
+#include "solver/extended_residual.hpp"
 
 namespace idto {
 
@@ -158,9 +160,9 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
   const Eigen::VectorXd vm = Eigen::VectorXd::Zero(m_);
   for (Half& half : half_) half = Half{mm, mm, vm, KktStatus{}};
   // Two halves from a block size where the step's dense work outweighs a parallel phase
-  // (the kernels' own threshold) and a horizon with at least 3 steps per half.
-  two_half_split_ =
-      m_ >= internal::kSmallKernelLimit && num_steps_ >= 8 ? (num_steps_ - 2) / 2 : num_steps_;
+  // (measured: the hopper's m = 8 gains, ball + finger's m = 12 too) and a horizon with at
+  // least 3 steps per half.
+  two_half_split_ = m_ >= kTwoHalfMinBlock && num_steps_ >= 8 ? (num_steps_ - 2) / 2 : num_steps_;
   split_ = two_half_split_;
   for (int i = 0; i < 2; ++i) {
     E_[i] = Wt_[i] = mm;
@@ -173,9 +175,11 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
   dp_ = rp_;
   rl_ = Eigen::VectorXd::Zero(num_steps_ * nu_);
   dl_ = rl_;
-  work_m_ = Eigen::VectorXd::Zero(m_);
-  extended_hi_ = Eigen::VectorXd::Zero(std::max(n_, nu_));
-  extended_lo_ = extended_hi_;
+  work_m_[0] = work_m_[1] = Eigen::VectorXd::Zero(m_);
+  for (int i = 0; i < 2; ++i) {
+    extended_hi_[i] = Eigen::VectorXd::Zero(std::max(n_, nu_));
+    extended_lo_[i] = extended_hi_[i];
+  }
   status_ = KktStatus{};
   H_ = nullptr;
   A_ = nullptr;
@@ -434,6 +438,16 @@ void BandedKktSolver::set_num_threads(int threads) {
   num_threads_ = threads;
 }
 
+void BandedKktSolver::set_extended_threshold(double threshold) {
+  if (!(threshold >= 0.0)) {
+    std::ostringstream value;
+    value << threshold;
+    ThrowInvalidArgument("BandedKktSolver::set_extended_threshold", "threshold", value.str(),
+                         ">= 0 (infinity: never)");
+  }
+  extended_threshold_ = threshold;
+}
+
 int BandedKktSolver::Position(int r) const {
   const int k = split_;
   if (r < k) return r;
@@ -456,25 +470,22 @@ const Eigen::MatrixXd& BandedKktSolver::Coupling(int r, int c) const {
   return c == k + 2 ? Wt1_ : Wt_[1];  // r = k + 1, c = k + 2 or k + 3
 }
 
-void BandedKktSolver::SolveInterleavedInPlace() {
+int BandedKktSolver::Neighbours(int r, int* c) const {
+  int count = 0;
+  for (int d : {-1, -2, 1, 2}) {
+    if (r + d >= 0 && r + d < num_steps_) c[count++] = r + d;
+  }
+  return count;
+}
+
+void BandedKktSolver::ForwardSweep(int e_begin, int e_end) {
   const int m = m_;
-  const int N = num_steps_;
   double* z = z_.data();
-  // The neighbours of a step, in the order their terms are added.
-  auto neighbours = [N](int r, int* c) {
-    int count = 0;
-    for (int d : {-1, -2, 1, 2}) {
-      if (r + d >= 0 && r + d < N) c[count++] = r + d;
-    }
-    return count;
-  };
   int c[4];
-  // Forward: G y = b in elimination order, stored as z_r = Σ y_r with
-  // y_r = F_r⁻¹ (b_r − Σ_{c before r} V(r, c) z_c).
-  for (int e = 0; e < N; ++e) {
+  for (int e = e_begin; e < e_end; ++e) {
     const int r = StepAt(e);
     double* zr = z + static_cast<long>(r) * m;
-    const int count = neighbours(r, c);
+    const int count = Neighbours(r, c);
     for (int i = 0; i < count; ++i) {
       if (Position(c[i]) > e) continue;
       internal::SubtractTransposeTimes(Coupling(r, c[i]).data(), m, m, m,
@@ -483,12 +494,16 @@ void BandedKktSolver::SolveInterleavedInPlace() {
     internal::LowerSolveInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr, m, 1);
     for (int i = n_; i < m; ++i) zr[i] = -zr[i];
   }
-  // Backward: Gᵀ x = z, x_r = F_r⁻ᵀ (z_r − Σ Σ_{c after r} V(c, r)ᵀ x_c).
-  double* w = work_m_.data();
-  for (int e = N - 1; e >= 0; --e) {
+}
+
+void BandedKktSolver::BackwardSweep(int e_begin, int e_end, double* w) {
+  const int m = m_;
+  double* z = z_.data();
+  int c[4];
+  for (int e = e_end - 1; e >= e_begin; --e) {
     const int r = StepAt(e);
     double* zr = z + static_cast<long>(r) * m;
-    const int count = neighbours(r, c);
+    const int count = Neighbours(r, c);
     bool any = false;
     for (int i = 0; i < count; ++i) {
       if (Position(c[i]) < e) continue;
@@ -502,6 +517,28 @@ void BandedKktSolver::SolveInterleavedInPlace() {
     }
     internal::LowerTransposeSolveInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr);
   }
+}
+
+void BandedKktSolver::SolveInterleavedInPlace() {
+  const int N = num_steps_;
+  // Forward, G y = b in elimination order, stored as z_r = Σ y_r with y_r = F_r⁻¹ (b_r −
+  // Σ_{c before r} V(r, c) z_c); backward, Gᵀ x = z, x_r = F_r⁻ᵀ (z_r − Σ Σ_{c after r}
+  // V(c, r)ᵀ x_c). In the two-half order the halves' steps only meet at the separator (positions
+  // N − 2, N − 1): forward, the halves are independent and the separator comes last; backward,
+  // the separator comes first. Every step does the same arithmetic in either schedule.
+  if (split_ >= N) {
+    ForwardSweep(0, N);
+    BackwardSweep(0, N, work_m_[0].data());
+    return;
+  }
+  const int k = split_;
+  ParallelFor(0, 2, std::min(num_threads_, 2),
+              [this, k, N](int i, int) { ForwardSweep(i == 0 ? 0 : k, i == 0 ? k : N - 2); });
+  ForwardSweep(N - 2, N);
+  BackwardSweep(N - 2, N, work_m_[0].data());
+  ParallelFor(0, 2, std::min(num_threads_, 2), [this, k, N](int i, int) {
+    BackwardSweep(i == 0 ? 0 : k, i == 0 ? k : N - 2, work_m_[i].data());
+  });
 }
 
 void BandedKktSolver::SolveOnce(const Eigen::VectorXd& g, const Eigen::VectorXd& h,
@@ -529,23 +566,55 @@ void BandedKktSolver::Solve(const Eigen::VectorXd& g, const Eigen::VectorXd& h, 
     return;
   }
   SolveOnce(g, h, p, lambda);
-  // With the extended residual a second step pays: the first one's correction is only as good
-  // as the factorization's contraction (κ ε growth), the residual no longer limits it.
-  const int steps = extended_residual_ ? std::max(refinement_steps_, 2) : refinement_steps_;
-  for (int i = 0; i < steps; ++i) {
-    // K d = r with r = −[g; h] − K x: SolveOnce(−r) gives d.
-    Residual(g, h, *p, *lambda, &rp_, &rl_);
-    rp_ = -rp_;
-    rl_ = -rl_;
-    SolveOnce(rp_, rl_, &dp_, &dl_);
-    *p += dp_;
-    *lambda += dl_;
+  last_solve_extended_ = false;
+  if (extended_residual_) {
+    // With the extended residual a second step pays: the first one's correction is only as
+    // good as the factorization's contraction (κ ε growth), the residual no longer limits it.
+    for (int i = 0; i < std::max(refinement_steps_, 2); ++i) RefineOnce(g, h, true, p, lambda);
+    last_solve_extended_ = true;
+    return;
   }
+  double first_correction = 0.0;
+  for (int i = 0; i < refinement_steps_; ++i) {
+    const double correction = RefineOnce(g, h, false, p, lambda);
+    if (i == 0) first_correction = correction;
+  }
+  // A large first correction is the signature of a conditioning κ that a residual in double
+  // cannot resolve (the refined step then keeps an error of about that size): one more step,
+  // from the refined step, with the residual in double-double (docs/solver.md, "Accuracy").
+  if (refinement_steps_ > 0 && first_correction > extended_threshold_) {
+    RefineOnce(g, h, true, p, lambda);
+    last_solve_extended_ = true;
+  }
+}
+
+double BandedKktSolver::RefineOnce(const Eigen::VectorXd& g, const Eigen::VectorXd& h,
+                                   bool extended, Eigen::VectorXd* p, Eigen::VectorXd* lambda) {
+  // K d = r with r = −[g; h] − K x: SolveOnce(−r) gives d.
+  CalcResidual(g, h, *p, *lambda, extended, &rp_, &rl_);
+  rp_ = -rp_;
+  rl_ = -rl_;
+  SolveOnce(rp_, rl_, &dp_, &dl_);
+  *p += dp_;
+  *lambda += dl_;
+  // max(|dp| / |p|, |dλ| / |λ|); a part that is zero after the step counts only if it moved.
+  auto relative = [](const Eigen::VectorXd& d, const Eigen::VectorXd& x) {
+    const double dn = d.norm(), xn = x.norm();
+    if (xn > 0.0) return dn / xn;
+    return dn > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
+  };
+  return std::max(relative(dp_, *p), relative(dl_, *lambda));
 }
 
 void BandedKktSolver::Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& h,
                                const Eigen::VectorXd& p, const Eigen::VectorXd& lambda,
                                Eigen::VectorXd* rp, Eigen::VectorXd* rl) {
+  CalcResidual(g, h, p, lambda, extended_residual_, rp, rl);
+}
+
+void BandedKktSolver::CalcResidual(const Eigen::VectorXd& g, const Eigen::VectorXd& h,
+                                   const Eigen::VectorXd& p, const Eigen::VectorXd& lambda,
+                                   bool extended, Eigen::VectorXd* rp, Eigen::VectorXd* rl) {
   if (H_ == nullptr || A_ == nullptr) {
     ThrowInvalidArgument("BandedKktSolver::Residual", "the solver", "not factored",
                          "a call to Factor first");
@@ -553,7 +622,7 @@ void BandedKktSolver::Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& 
   const int N = num_steps_, n = n_, nu = nu_;
   const PentaDiagonalMatrix& H = *H_;
   const BlockConstraintJacobian& A = *A_;
-  if (!extended_residual_) {
+  if (!extended) {
     H.Multiply(p, rp);
     A.AddMultiplyTranspose(lambda, rp);
     *rp = -*rp - g;
@@ -561,66 +630,14 @@ void BandedKktSolver::Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& 
     *rl = -*rl - h;
     return;
   }
-  // Accumulated exactly enough in double-double arithmetic (each product split exactly by an
-  // fma, each sum by TwoSum) and rounded once: the refinement then corrects the error that the
-  // conditioning of K (up to ~1e10 on the examples) puts into the double solve, not only the
-  // factorization's round-off (docs/solver.md, "Accuracy"). Every loop runs along a stored column.
   if (rp->size() != N * n) rp->resize(N * n);
   if (rl->size() != N * nu) rl->resize(N * nu);
-  double* hi = extended_hi_.data();
-  double* lo = extended_lo_.data();
-  for (int r = 0; r < N; ++r) {
-    for (int i = 0; i < n; ++i) {
-      hi[i] = -g(r * n + i);
-      lo[i] = 0.0;
-    }
-    // Blocks left of the diagonal and the diagonal one, H(r, c) = A(r), B(r), C(r): by columns.
-    for (int c = std::max(0, r - 2); c <= r; ++c) {
-      const Eigen::MatrixXd& M = c == r ? H.C(r) : (c == r - 1 ? H.B(r) : H.A(r));
-      for (int j = 0; j < n; ++j) {
-        const double pj = p(c * n + j);
-        const double* column = M.col(j).data();
-        for (int i = 0; i < n; ++i) internal::SubtractProductExactly(column[i], pj, &hi[i], &lo[i]);
-      }
-    }
-    // Right of the diagonal, H(r, c) = M(c)ᵀ: row i of it is column i of M(c).
-    for (int c = r + 1; c <= std::min(N - 1, r + 2); ++c) {
-      const Eigen::MatrixXd& M = c == r + 1 ? H.B(c) : H.A(c);
-      const double* pc = p.data() + c * n;
-      for (int i = 0; i < n; ++i) {
-        const double* column = M.col(i).data();
-        for (int j = 0; j < n; ++j)
-          internal::SubtractProductExactly(column[j], pc[j], &hi[i], &lo[i]);
-      }
-    }
-    // Aᵀλ: the constraints h_j that involve q_{r+1}; row i of J(j, r+1)ᵀ is its column i.
-    for (int j = r; j <= std::min(N - 1, r + 2); ++j) {
-      const Eigen::MatrixXd& J = A.Block(j, r + 1);
-      const double* l = lambda.data() + j * nu;
-      for (int i = 0; i < n; ++i) {
-        const double* column = J.col(i).data();
-        for (int u = 0; u < nu; ++u)
-          internal::SubtractProductExactly(column[u], l[u], &hi[i], &lo[i]);
-      }
-    }
-    for (int i = 0; i < n; ++i) (*rp)(r * n + i) = hi[i] + lo[i];
-  }
-  for (int j = 0; j < N; ++j) {
-    for (int u = 0; u < nu; ++u) {
-      hi[u] = -h(j * nu + u);
-      lo[u] = 0.0;
-    }
-    for (int s = std::max(1, j - 1); s <= std::min(N, j + 1); ++s) {
-      const Eigen::MatrixXd& J = A.Block(j, s);
-      for (int i = 0; i < n; ++i) {
-        const double pi = p((s - 1) * n + i);
-        const double* column = J.col(i).data();
-        for (int u = 0; u < nu; ++u)
-          internal::SubtractProductExactly(column[u], pi, &hi[u], &lo[u]);
-      }
-    }
-    for (int u = 0; u < nu; ++u) (*rl)(j * nu + u) = hi[u] + lo[u];
-  }
+  // Two halves of the steps on two threads when the factorization also runs in two halves.
+  const int halves = split_ < N ? 2 : 1;
+  ParallelFor(0, halves, std::min(num_threads_, 2), [&](int i, int) {
+    internal::ExtendedKktResidual(H, A, g, h, p, lambda, i * N / halves, (i + 1) * N / halves,
+                                  extended_hi_[i].data(), extended_lo_[i].data(), rp, rl);
+  });
 }
 
 }  // namespace idto

@@ -66,6 +66,9 @@ bool SolverOptions::IsValid(std::string* why) const {
   if (!(acceptance_ratio >= 0 && acceptance_ratio < 0.25)) {
     return fail("acceptance_ratio", acceptance_ratio, "in [0, 0.25)");
   }
+  if (!(kkt_extended_threshold >= 0)) {
+    return fail("kkt_extended_threshold", kkt_extended_threshold, ">= 0 (infinity: never)");
+  }
   if (!(cost_tolerance >= 0)) return fail("cost_tolerance", cost_tolerance, ">= 0");
   if (!(gradient_tolerance >= 0)) return fail("gradient_tolerance", gradient_tolerance, ">= 0");
   if (!(step_tolerance >= 0)) return fail("step_tolerance", step_tolerance, ">= 0");

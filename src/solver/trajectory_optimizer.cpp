@@ -76,6 +76,7 @@ class TrajectoryOptimizer::Impl {
       kkt_.Resize(N_, nq_, nu_);
     }
     kkt_.set_extended_residual(options_.kkt_extended_residual);
+    kkt_.set_extended_threshold(options_.kkt_extended_threshold);
     kkt_.set_num_threads(options_.num_threads);
   }
 

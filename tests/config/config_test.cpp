@@ -183,6 +183,7 @@ TEST(ConfigTest, FullFixture) {
   EXPECT_DOUBLE_EQ(s.step_tolerance, 1e-9);
   EXPECT_TRUE(s.fixed_iterations);
   EXPECT_TRUE(s.kkt_extended_residual);
+  EXPECT_DOUBLE_EQ(s.kkt_extended_threshold, 1e-9);
   EXPECT_EQ(s.verbosity, 1);
 
   // The mpc section, read with the rest of the file.

@@ -108,10 +108,12 @@ TEST(Baseline, EveryExampleMatchesThePreRedesignSolver) {
   }
 }
 
-// The examples whose KKT system is factored in two halves (block size n + nu >= 16): the two
-// halves on two threads give bitwise the results of one thread.
+// The examples whose KKT system is factored in two halves (block size n + nu >= 8): the two
+// halves on two threads (factorization, solve sweeps, the double-double residual of the adaptive
+// refinement step, which the hopper, quadruped and bi-manual lift take) give bitwise the results
+// of one thread.
 TEST(Baseline, TwoHalfKktIsBitwiseEqualOnOneAndTwoThreads) {
-  for (const std::string name : {"quadruped", "allegro", "bimanual_lift"}) {
+  for (const std::string name : {"hopper", "quadruped", "allegro", "bimanual_lift"}) {
     SCOPED_TRACE(name);
     const Result one = SolveExample(name, ConstraintMethod::kLagrangeMultipliers, 1, 6);
     const Result two = SolveExample(name, ConstraintMethod::kLagrangeMultipliers, 2, 6);

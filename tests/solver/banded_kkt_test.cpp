@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <iostream>
+#include <limits>
 #include <tuple>
 #include <vector>
 
@@ -15,6 +16,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "idto/solver/banded_kkt.hpp"
+#include "solver/extended_residual.hpp"
 #include "support/allocation_counter.hpp"
 #include "support/eigen_matchers.hpp"
 #include "support/random.hpp"
@@ -116,7 +118,7 @@ std::pair<double, double> BandedErrors(const KktProblem& P, int refinement_steps
   return {RelativeError(p, p_ref), RelativeError(lambda, lambda_ref)};
 }
 
-// The last four are factored in two halves (block size n + nu >= 16, N >= 8).
+// {20, 9, 3} and the last four are factored in two halves (block size n + nu >= 8, N >= 8).
 const std::vector<std::tuple<int, int, int>> kSizes = {
     {1, 3, 1},  {2, 3, 2},  {3, 4, 2},  {1, 4, 0},  {2, 4, 0},  {3, 4, 0},   {3, 3, 3},  {10, 4, 2},
     {20, 9, 3}, {7, 23, 6}, {40, 2, 1}, {8, 13, 3}, {9, 12, 4}, {15, 14, 2}, {12, 23, 6}};
@@ -467,6 +469,102 @@ TEST(BandedKkt, IndefiniteHessianInEitherHalfIsAStatus) {
     kkt.Solve(P.g, P.h, &p, &lambda);
     EXPECT_TRUE(p.allFinite() && lambda.allFinite());
     EXPECT_EQ(p.norm(), 0.0);
+  }
+}
+
+// The adaptive double-double step (extended_threshold): never taken on well-conditioned
+// problems (bitwise the residual-in-double result), taken where the conditioning (H's condition
+// number 1e9 and entries spanning 1e-6..1e6) makes the first correction large, and then never
+// worse than the residual in double alone. Threshold 0: always; infinity: never.
+TEST(BandedKkt, AdaptiveExtendedStepOnlyWhereTheConditioningNeedsIt) {
+  test::Random rng(12);
+  int taken = 0, cases = 0;
+  double worst[2] = {0, 0};
+  for (auto [N, n, nu] : kSizes) {
+    if (nu == 0) continue;
+    SCOPED_TRACE(::testing::Message() << "N=" << N << " n=" << n << " nu=" << nu);
+    for (bool ill : {false, true}) {
+      const KktProblem P =
+          ill ? RandomProblem(N, n, nu, 1e9, 1e3, &rng) : RandomProblem(N, n, nu, 10.0, 1.0, &rng);
+      BandedKktSolver kkt(N, n, nu);
+      ASSERT_TRUE(kkt.Factor(P.H, P.A).ok());
+      Eigen::VectorXd p, l, p_plain, l_plain, p_ref, l_ref, p_always, l_always;
+      kkt.Solve(P.g, P.h, &p, &l);
+      const bool extended = kkt.last_solve_extended();
+      kkt.set_extended_threshold(std::numeric_limits<double>::infinity());
+      kkt.Solve(P.g, P.h, &p_plain, &l_plain);
+      EXPECT_FALSE(kkt.last_solve_extended());
+      kkt.set_extended_threshold(0.0);
+      kkt.Solve(P.g, P.h, &p_always, &l_always);
+      EXPECT_TRUE(kkt.last_solve_extended());
+      if (!ill) {
+        // With nu = n the random square blocks of A themselves can be nearly singular.
+        if (nu < n) {
+          EXPECT_FALSE(extended);
+        }
+        if (extended) continue;
+        EXPECT_TRUE(p == p_plain && l == l_plain);
+        continue;
+      }
+      ++cases;
+      taken += extended;
+      DenseOracle(P, &p_ref, &l_ref);
+      const double ep = RelativeError(p, p_ref), el = RelativeError(l, l_ref);
+      // The oracle (long double) is itself ~1e-10 off at this conditioning.
+      EXPECT_LE(ep, std::max(2e-10, 1.01 * RelativeError(p_plain, p_ref)));
+      EXPECT_LE(el, std::max(2e-10, 1.01 * RelativeError(l_plain, l_ref)));
+      worst[0] = std::max(worst[0], ep);
+      worst[1] = std::max(worst[1], el);
+    }
+  }
+  EXPECT_GE(taken, cases / 2) << "of " << cases;
+  std::cout << "condition 1e9: adaptive double-double step taken in " << taken << " of " << cases
+            << "; worst relative error p " << worst[0] << ", lambda " << worst[1] << "\n";
+  BandedKktSolver kkt(2, 3, 1);
+  EXPECT_THROW(kkt.set_extended_threshold(-1.0), std::invalid_argument);
+  EXPECT_THROW(kkt.set_extended_threshold(std::numeric_limits<double>::quiet_NaN()),
+               std::invalid_argument);
+}
+
+// The extended residual is bitwise the same with the product split by an fma instruction and by
+// Dekker's product (both exact), on problems whose entries span 1e-6..1e6; and it is the double
+// residual to round-off.
+TEST(BandedKkt, ExtendedResidualIsTheSameWithAndWithoutFmaInstructions) {
+  test::Random rng(13);
+  std::cout << "this CPU has fma: " << internal::CpuHasFma() << "\n";
+  for (auto [N, n, nu] : kSizes) {
+    SCOPED_TRACE(::testing::Message() << "N=" << N << " n=" << n << " nu=" << nu);
+    const KktProblem P = RandomProblem(N, n, nu, 1e6, 1e3, &rng);
+    const Eigen::VectorXd p = rng.Vector(N * n), l = rng.Vector(N * nu);
+    std::vector<double> hi(std::max(n, nu)), lo(std::max(n, nu));
+    Eigen::VectorXd rp[2] = {Eigen::VectorXd(N * n), Eigen::VectorXd(N * n)};
+    Eigen::VectorXd rl[2] = {Eigen::VectorXd(N * nu), Eigen::VectorXd(N * nu)};
+    internal::ExtendedKktResidual(P.H, P.A, P.g, P.h, p, l, 0, N, hi.data(), lo.data(), &rp[0],
+                                  &rl[0], internal::ProductSplit::kDekker);
+    if (internal::CpuHasFma()) {
+      // In two ranges of steps, as on two threads.
+      for (auto [begin, end] : {std::pair<int, int>{0, N / 2}, {N / 2, N}}) {
+        internal::ExtendedKktResidual(P.H, P.A, P.g, P.h, p, l, begin, end, hi.data(), lo.data(),
+                                      &rp[1], &rl[1], internal::ProductSplit::kFmaInstruction);
+      }
+      EXPECT_TRUE(rp[0] == rp[1] && rl[0] == rl[1]);
+    } else {
+      EXPECT_THROW(
+          internal::ExtendedKktResidual(P.H, P.A, P.g, P.h, p, l, 0, N, hi.data(), lo.data(),
+                                        &rp[1], &rl[1], internal::ProductSplit::kFmaInstruction),
+          std::invalid_argument);
+    }
+    Eigen::VectorXd rp_double = -P.g, rl_double = -P.h, Hp(N * n), Ap(N * nu);
+    P.H.Multiply(p, &Hp);
+    P.A.Multiply(p, &Ap);
+    rp_double -= Hp;
+    P.A.AddMultiplyTranspose(Eigen::VectorXd(-l), &rp_double);
+    rl_double -= Ap;
+    const double scale = Hp.norm() + P.g.norm() + Ap.norm() + P.h.norm() + 1.0;
+    EXPECT_LE((rp[0] - rp_double).norm(), 1e-13 * scale);
+    if (nu > 0) {
+      EXPECT_LE((rl[0] - rl_double).norm(), 1e-13 * scale);
+    }
   }
 }
 

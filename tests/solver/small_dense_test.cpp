@@ -171,9 +171,10 @@ TEST(SmallDenseExact, ProductAndSumErrorsAreKept) {
   EXPECT_EQ(lo, -std::ldexp(1.0, -60));
 }
 
-// TwoProductError (Dekker's product in the default build, one fma with -mfma) is exact: a b =
-// product + error, checked against std::fma (exact by definition, emulated in software when
-// there is no fma instruction) on products over 600 binades, signs and zeros.
+// TwoProductError (Dekker's product in the default build, one fma with -mfma) and both
+// TwoProductErrorWith variants are exact: a b = product + error, checked against std::fma (exact by
+// definition, emulated in software when there is no fma instruction) on products over 600 binades,
+// signs and zeros.
 TEST(SmallDenseExact, TwoProductErrorIsExact) {
   std::mt19937_64 rng(17);
   std::uniform_real_distribution<double> mantissa(-1.0, 1.0);
@@ -185,6 +186,8 @@ TEST(SmallDenseExact, TwoProductErrorIsExact) {
     const double product = a * b;
     const double error = internal::TwoProductError(a, b, product);
     ASSERT_EQ(error, std::fma(a, b, -product)) << a << " * " << b;
+    ASSERT_EQ(internal::TwoProductErrorWith<false>(a, b, product), error) << a << " * " << b;
+    ASSERT_EQ(internal::TwoProductErrorWith<true>(a, b, product), error) << a << " * " << b;
     nonzero += error != 0.0;
   }
   EXPECT_GT(nonzero, 19000);  // the products are almost never exact in double

@@ -2,6 +2,7 @@
 // trust-region mechanics, convergence on small problems, constraints, determinism, errors.
 
 #include <cmath>
+#include <limits>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -288,30 +289,50 @@ TEST(Solver, LagrangeMultipliersDriveUnactuatedTorquesToZeroUnlikeThePenalty) {
   EXPECT_NEAR(h.squaredNorm(), s_lm.constraint_violation, 1e-12);
 }
 
-// kkt_extended_residual changes only the round-off of the Lagrange step: the same solve to
-// ~1e-9, but not bit for bit (the option reaches the KKT solver).
+// kkt_extended_residual and kkt_extended_threshold change only the round-off of the Lagrange
+// step: the same solve to ~1e-9, but not bit for bit (the options reach the KKT solver). Runs:
+// the residual in double only (threshold infinity), always in double-double, and threshold 0
+// (one double-double step after the double one).
 TEST(Solver, ExtendedKktResidualChangesOnlyRoundOff) {
   const Model model = Pusher();
   const ProblemDefinition p = PusherProblem(model);
   std::vector<Eigen::VectorXd> guess(21, p.q_init);
-  std::vector<Trajectory> sols(2);
-  for (bool extended : {false, true}) {
+  std::vector<Trajectory> sols(3);
+  for (int run = 0; run < 3; ++run) {
     SolverOptions o;
     o.constraint_method = ConstraintMethod::kLagrangeMultipliers;
     o.max_iterations = 10;
     o.fixed_iterations = true;
-    o.kkt_extended_residual = extended;
+    o.kkt_extended_residual = run == 1;
+    o.kkt_extended_threshold = run == 0 ? std::numeric_limits<double>::infinity() : 0.0;
     TrajectoryOptimizer opt(model, p, o);
-    const SolverSummary s = opt.Solve(guess, &sols[extended]);
+    const SolverSummary s = opt.Solve(guess, &sols[run]);
     EXPECT_NE(s.termination, TerminationType::kFailure) << s.message;
   }
-  double difference = 0.0, scale = 0.0;
-  for (size_t k = 0; k < sols[0].q.size(); ++k) {
-    difference = std::max(difference, (sols[0].q[k] - sols[1].q[k]).cwiseAbs().maxCoeff());
-    scale = std::max(scale, sols[0].q[k].cwiseAbs().maxCoeff());
+  auto difference = [&](int a, int b) {
+    double d = 0.0, scale = 0.0;
+    for (size_t k = 0; k < sols[a].q.size(); ++k) {
+      d = std::max(d, (sols[a].q[k] - sols[b].q[k]).cwiseAbs().maxCoeff());
+      scale = std::max(scale, sols[b].q[k].cwiseAbs().maxCoeff());
+    }
+    return d / scale;
+  };
+  EXPECT_LE(difference(0, 1), 1e-9);
+  EXPECT_GT(difference(0, 1), 0.0);
+  EXPECT_LE(difference(2, 1), 1e-9);
+  EXPECT_GT(difference(2, 0), 0.0);
+}
+
+TEST(Solver, KktExtendedThresholdIsValidated) {
+  SolverOptions o;
+  std::string why;
+  o.kkt_extended_threshold = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(o.IsValid(&why)) << why;
+  for (double bad : {-1e-12, std::numeric_limits<double>::quiet_NaN()}) {
+    o.kkt_extended_threshold = bad;
+    EXPECT_FALSE(o.IsValid(&why));
+    EXPECT_NE(why.find("kkt_extended_threshold"), std::string::npos) << why;
   }
-  EXPECT_LE(difference, 1e-9 * scale);
-  EXPECT_GT(difference, 0.0);
 }
 
 TEST(Solver, ResultsAreBitwiseIdenticalForOneAndTwoThreads) {

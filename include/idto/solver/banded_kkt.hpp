@@ -12,8 +12,9 @@
 /// q_{j−1}, q_j, q_{j+1}. Interleaving the unknowns per step, x_r = (p_r, λ_r) with p_r the
 /// step of q_{r+1}, makes the KKT matrix block-pentadiagonal with blocks of size n + nu; it is
 /// factored by a block LDLᵀ whose pivot blocks are factored by a nested Schur complement (two
-/// Cholesky factorizations). From blocks of 16 and 8 steps the elimination runs from both ends
-/// of the horizon towards two separator steps in the middle (one thread per half). docs/solver.md
+/// Cholesky factorizations). From blocks of 8 (kTwoHalfMinBlock) and 8 steps the elimination
+/// runs from both ends of the horizon towards two separator steps in the middle (one thread per
+/// half, in the factorization and in each solve). docs/solver.md
 /// ("Lagrange multipliers in O(N)", "Two halves") explains why this never breaks down when H is
 /// positive definite and A has full row rank, and what the status says when it does not.
 
@@ -140,6 +141,18 @@ class BandedKktSolver {
   /// about 1.5–2× the KKT time.
   bool extended_residual() const { return extended_residual_; }
   void set_extended_residual(bool extended) { extended_residual_ = extended; }
+  /// Without extended_residual(): when the first refinement step corrects the step by more than
+  /// this (relative, max(|dp| / |p|, |dλ| / |λ|)), Solve adds one refinement step with the
+  /// residual in double-double. The default 1e-11 keeps the refined step within ~1e-11 relative
+  /// of the exact one: a first correction of size c means a conditioning near c / 1e-16, which
+  /// a residual in double leaves as an error of about c (docs/solver.md, "Accuracy"). Well
+  /// conditioned systems (c ~ 1e-13 or below) pay nothing; infinity: never, 0: always.
+  /// Throws InvalidArgument on NaN or a negative value.
+  double extended_threshold() const { return extended_threshold_; }
+  void set_extended_threshold(double threshold);
+  /// Whether the last Solve refined with the residual in double-double (always with
+  /// extended_residual(); otherwise when the first correction exceeded extended_threshold()).
+  bool last_solve_extended() const { return last_solve_extended_; }
   /// A constraint pivot d (the squared diagonal of the Cholesky factor of −S_j, S_j the Schur
   /// complement of the constraint part of pivot block j) with d <= tolerance · s is rank
   /// deficiency, s the sum of the positive contributions to (−S_j)_ii: about the row's squared
@@ -149,9 +162,12 @@ class BandedKktSolver {
   double rank_tolerance() const { return rank_tolerance_; }
   void set_rank_tolerance(double tolerance) { rank_tolerance_ = tolerance; }
 
-  /// Threads of Factor (default 1; 2 is the most it uses). From a block size n + nu of 16 and
-  /// N >= 8 steps, the factorization runs from both ends of the horizon towards the middle
-  /// (docs/solver.md, "Two halves"); with 2 threads the two halves are factored at once. The
+  /// Smallest block size n + nu factored in two halves (with N >= 8).
+  static constexpr int kTwoHalfMinBlock = 8;
+  /// Threads of Factor and Solve (default 1; 2 is the most they use). From a block size n + nu
+  /// of kTwoHalfMinBlock and N >= 8 steps, the factorization runs from both ends of the horizon
+  /// towards the middle (docs/solver.md, "Two halves"); with 2 threads the two halves are
+  /// factored, and each solve's sweeps over them run, at once. The
   /// arithmetic does not depend on the thread count: results are bitwise equal for any value.
   /// A second thread that starts late costs nothing (the calling thread then factors both
   /// halves).
@@ -227,10 +243,24 @@ class BandedKktSolver {
   // Elimination order: the position of step r, and the step at position e.
   int Position(int r) const;
   int StepAt(int e) const;
-  // Solves the interleaved system in place in z_ (N (n + nu)).
+  // Solves the interleaved system in place in z_ (N (n + nu)); in the two-half order each
+  // sweep's halves run on one thread each.
   void SolveInterleavedInPlace();
+  // The steps before and after r (at most 4) into c, in the order their terms are added.
+  int Neighbours(int r, int* c) const;
+  // The forward substitution of the steps at elimination positions [e_begin, e_end), in order;
+  // the backward one in reverse order, w (m) its scratch.
+  void ForwardSweep(int e_begin, int e_end);
+  void BackwardSweep(int e_begin, int e_end, double* w);
   void SolveOnce(const Eigen::VectorXd& g, const Eigen::VectorXd& h, Eigen::VectorXd* p,
                  Eigen::VectorXd* lambda);
+  // One step of iterative refinement of (p, λ), the residual in double-double when extended.
+  // Returns the relative size of the correction, max(|dp| / |p|, |dλ| / |λ|).
+  double RefineOnce(const Eigen::VectorXd& g, const Eigen::VectorXd& h, bool extended,
+                    Eigen::VectorXd* p, Eigen::VectorXd* lambda);
+  void CalcResidual(const Eigen::VectorXd& g, const Eigen::VectorXd& h, const Eigen::VectorXd& p,
+                    const Eigen::VectorXd& lambda, bool extended, Eigen::VectorXd* rp,
+                    Eigen::VectorXd* rl);
 
   int num_steps_{0};
   int n_{0};
@@ -244,6 +274,8 @@ class BandedKktSolver {
   int split_{0};
   int two_half_split_{0};
   bool extended_residual_{false};
+  double extended_threshold_{1e-11};
+  bool last_solve_extended_{false};
   double rank_tolerance_{1e-14};
   KktStatus status_;
   const PentaDiagonalMatrix* H_{nullptr};
@@ -267,9 +299,10 @@ class BandedKktSolver {
   const double* InverseDiagonal(int r) const {
     return inverse_diagonal_.data() + static_cast<Eigen::Index>(r) * m_;
   }
-  Eigen::VectorXd z_, rp_, rl_, dp_, dl_, work_m_;
+  Eigen::VectorXd z_, rp_, rl_, dp_, dl_;
+  Eigen::VectorXd work_m_[2];  // m each: the backward sweep's scratch, one per half
   // max(n, nu): the extended residual's double-double accumulators (high and low parts).
-  Eigen::VectorXd extended_hi_, extended_lo_;
+  Eigen::VectorXd extended_hi_[2], extended_lo_[2];  // max(n, nu) each, one per thread
 };
 
 }  // namespace idto

@@ -43,6 +43,13 @@ struct SolverOptions {
   /// on the bimanual examples) for about 1.8× the KKT time
   /// (BandedKktSolver::set_extended_residual).
   bool kkt_extended_residual{false};
+  /// kLagrangeMultipliers, without kkt_extended_residual: when the refinement's first correction
+  /// of the KKT step is above this (relative), one more refinement step with the residual in
+  /// double-double follows (BandedKktSolver::set_extended_threshold). The default 1e-11 leaves
+  /// well-conditioned steps as they are and brings ill-conditioned ones (the quadruped, hopper
+  /// and bi-manual examples) within ~1e-11 of the exact step. >= 0; infinity (or 1e300 in YAML):
+  /// never.
+  double kkt_extended_threshold{1e-11};
   /// d tau / d q: exact (kAnalytic, the default) or by forward / central differences.
   DerivativeMethod derivative_method{DerivativeMethod::kAnalytic};
   /// Relative step of finite differences; 0: sqrt(eps) (forward; central with contact) or
