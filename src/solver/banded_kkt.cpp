@@ -181,6 +181,7 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
     extended_lo_[i] = extended_hi_[i];
   }
   status_ = KktStatus{};
+  last_solve_extended_ = last_solve_needed_extended_ = false;
   H_ = nullptr;
   A_ = nullptr;
 }
@@ -560,31 +561,63 @@ void BandedKktSolver::Solve(const Eigen::VectorXd& g, const Eigen::VectorXd& h, 
   CheckSize("BandedKktSolver::Solve", "h", h.size(), num_steps_ * nu_, "N nu");
   if (p->size() != num_steps_ * n_) p->resize(num_steps_ * n_);
   if (lambda->size() != num_steps_ * nu_) lambda->resize(num_steps_ * nu_);
+  last_solve_extended_ = false;
+  last_solve_needed_extended_ = false;
   if (!status_.ok()) {
     p->setZero();
     lambda->setZero();
     return;
   }
   SolveOnce(g, h, p, lambda);
-  last_solve_extended_ = false;
   if (extended_residual_) {
     // With the extended residual a second step pays: the first one's correction is only as
     // good as the factorization's contraction (κ ε growth), the residual no longer limits it.
-    for (int i = 0; i < std::max(refinement_steps_, 2); ++i) RefineOnce(g, h, true, p, lambda);
+    const double first = RefineOnce(g, h, true, p, lambda);
+    for (int i = 1; i < std::max(refinement_steps_, 2); ++i) RefineOnce(g, h, true, p, lambda);
     last_solve_extended_ = true;
+    last_solve_needed_extended_ = !(first <= extended_threshold_);
     return;
   }
-  double first_correction = 0.0;
+  if (refinement_steps_ <= 0) return;
+  double first = 0.0;
+  if (extended_first_) {
+    first = RefineOnce(g, h, true, p, lambda);
+    last_solve_extended_ = true;
+    last_solve_needed_extended_ = !(first <= extended_threshold_);
+    FinishExtendedRefinement(g, h, first, 1, p, lambda);
+    return;
+  }
   for (int i = 0; i < refinement_steps_; ++i) {
     const double correction = RefineOnce(g, h, false, p, lambda);
-    if (i == 0) first_correction = correction;
+    if (i == 0) first = correction;
   }
   // A large first correction is the signature of a conditioning κ that a residual in double
-  // cannot resolve (the refined step then keeps an error of about that size): one more step,
-  // from the refined step, with the residual in double-double (docs/solver.md, "Accuracy").
-  if (refinement_steps_ > 0 && first_correction > extended_threshold_) {
-    RefineOnce(g, h, true, p, lambda);
+  // cannot resolve (the refined step then keeps an error of about that size, or more: the
+  // residual's own rounding, amplified by κ): steps with the residual in double-double follow
+  // (docs/solver.md, "Accuracy"). A NaN correction takes them too.
+  if (!(first <= extended_threshold_)) {
     last_solve_extended_ = true;
+    last_solve_needed_extended_ = true;
+    FinishExtendedRefinement(g, h, RefineOnce(g, h, true, p, lambda), 1, p, lambda);
+  }
+}
+
+void BandedKktSolver::FinishExtendedRefinement(const Eigen::VectorXd& g, const Eigen::VectorXd& h,
+                                               double correction, int steps, Eigen::VectorXd* p,
+                                               Eigen::VectorXd* lambda) {
+  // A step with an exact residual multiplies the error by the refinement's contraction ρ: on the
+  // examples ρ is about the error itself, so one step leaves about c² (c its correction); with
+  // weak constraint blocks ρ reaches ~1e-3 whatever c. After one step: continue while c²
+  // could exceed the threshold; after two or more, with ρ estimated from the last two
+  // corrections, while ρ c could (docs/solver.md, "Accuracy").
+  double previous = 0.0;
+  while (steps < kMaxExtendedSteps) {
+    const bool more = steps == 1 ? !(correction * correction <= extended_threshold_)
+                                 : !(correction * (correction / previous) <= extended_threshold_);
+    if (!more) break;
+    previous = correction;
+    correction = RefineOnce(g, h, true, p, lambda);
+    ++steps;
   }
 }
 
@@ -597,13 +630,19 @@ double BandedKktSolver::RefineOnce(const Eigen::VectorXd& g, const Eigen::Vector
   SolveOnce(rp_, rl_, &dp_, &dl_);
   *p += dp_;
   *lambda += dl_;
-  // max(|dp| / |p|, |dλ| / |λ|); a part that is zero after the step counts only if it moved.
+  // max(|dp|∞ / |p|∞, |dλ|∞ / |λ|∞): max-norms, which neither overflow nor underflow where
+  // the entries do not; a part that is zero after the step counts only if it moved; NaN
+  // propagates.
   auto relative = [](const Eigen::VectorXd& d, const Eigen::VectorXd& x) {
-    const double dn = d.norm(), xn = x.norm();
+    if (d.size() == 0) return 0.0;
+    const double dn = d.cwiseAbs().maxCoeff(), xn = x.cwiseAbs().maxCoeff();
+    if (std::isnan(dn) || std::isnan(xn)) return std::numeric_limits<double>::quiet_NaN();
     if (xn > 0.0) return dn / xn;
     return dn > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
   };
-  return std::max(relative(dp_, *p), relative(dl_, *lambda));
+  const double cp = relative(dp_, *p), cl = relative(dl_, *lambda);
+  return std::isnan(cp) || std::isnan(cl) ? std::numeric_limits<double>::quiet_NaN()
+                                          : std::max(cp, cl);
 }
 
 void BandedKktSolver::Residual(const Eigen::VectorXd& g, const Eigen::VectorXd& h,

@@ -34,24 +34,31 @@ __attribute__((always_inline)) inline void Kernel(
         for (int i = 0; i < n; ++i) SubtractProductExactlyWith<kFma>(column[i], pj, &hi[i], &lo[i]);
       }
     }
-    // Right of the diagonal, H(r, c) = M(c)ᵀ: row i of it is column i of M(c).
+    // Right of the diagonal, H(r, c) = M(c)ᵀ: H(r, c)(i, j) = M(c)(j, i). The inner loop runs
+    // over i, so that its n accumulations are independent (TwoSum is a chain of dependent
+    // operations: accumulating one entry in the inner loop would serialize them).
     for (int c = r + 1; c <= std::min(N - 1, r + 2); ++c) {
       const Eigen::MatrixXd& M = c == r + 1 ? H.B(c) : H.A(c);
       const double* pc = p.data() + c * n;
-      for (int i = 0; i < n; ++i) {
-        const double* column = M.col(i).data();
-        for (int j = 0; j < n; ++j)
-          SubtractProductExactlyWith<kFma>(column[j], pc[j], &hi[i], &lo[i]);
+      const double* m = M.data();
+      const long ld = M.outerStride();
+      for (int j = 0; j < n; ++j) {
+        const double pj = pc[j];
+        for (int i = 0; i < n; ++i)
+          SubtractProductExactlyWith<kFma>(m[j + i * ld], pj, &hi[i], &lo[i]);
       }
     }
-    // Aᵀλ: the constraints h_j that involve q_{r+1}; row i of J(j, r+1)ᵀ is its column i.
+    // Aᵀλ: the constraints h_j that involve q_{r+1}; (J(j, r+1)ᵀ)(i, u) = J(u, i), inner loop
+    // over i as above.
     for (int j = r; j <= std::min(N - 1, r + 2); ++j) {
       const Eigen::MatrixXd& J = A.Block(j, r + 1);
       const double* l = lambda.data() + j * nu;
-      for (int i = 0; i < n; ++i) {
-        const double* column = J.col(i).data();
-        for (int u = 0; u < nu; ++u)
-          SubtractProductExactlyWith<kFma>(column[u], l[u], &hi[i], &lo[i]);
+      const double* a = J.data();
+      const long ld = J.outerStride();
+      for (int u = 0; u < nu; ++u) {
+        const double lu = l[u];
+        for (int i = 0; i < n; ++i)
+          SubtractProductExactlyWith<kFma>(a[u + i * ld], lu, &hi[i], &lo[i]);
       }
     }
     for (int i = 0; i < n; ++i) (*rp)(r * n + i) = hi[i] + lo[i];

@@ -175,6 +175,7 @@ class TrajectoryOptimizer::Impl {
                                "last good iterate kept");
     }
     kkt_.Solve(g_, h_, &p_newton_, &lambda_);
+    kkt_.set_extended_first(kkt_.last_solve_needed_extended());
     A_.AddMultiplyTranspose(lambda_, &g_merit_);
     merit_ = x_.cost + h_.dot(lambda_);
     return true;
@@ -385,6 +386,9 @@ SolverSummary TrajectoryOptimizer::Solve(const std::vector<Eigen::VectorXd>& q_g
                                          Trajectory* solution) {
   impl_->SetIterate(q_guess, "TrajectoryOptimizer::Solve", "q_guess");
   impl_->trust_radius_ = impl_->options_.initial_trust_radius;
+  // The KKT hint (each iteration's is the previous one's need for the double-double residual)
+  // starts afresh, as the trust radius does; a warm start continues both.
+  impl_->kkt_.set_extended_first(false);
   return impl_->Run(solution);
 }
 

@@ -109,9 +109,14 @@ void CompareAt(const ExampleConfig& config, const std::vector<Eigen::VectorXd>& 
   ASSERT_TRUE(status.ok()) << status.Message();
   // Blocks of 8 and more over 8 and more steps: the two-half order, with no fallback.
   EXPECT_EQ(kkt.factored_in_two_halves(), n + nu >= BandedKktSolver::kTwoHalfMinBlock && N >= 8);
-  Step banded, extended, plain;
+  Step banded, extended, plain, first;
   kkt.Solve(g, h, &banded.p, &banded.lambda);
   const bool adaptive_extended = kkt.last_solve_extended();
+  // The minimizer's hint after an iteration that needed the double-double step.
+  kkt.set_extended_first(true);
+  kkt.Solve(g, h, &first.p, &first.lambda);
+  EXPECT_TRUE(kkt.last_solve_extended());
+  kkt.set_extended_first(false);
   // Without the adaptive double-double step: the refinement residual in double only.
   kkt.set_extended_threshold(std::numeric_limits<double>::infinity());
   kkt.Solve(g, h, &plain.p, &plain.lambda);
@@ -167,6 +172,10 @@ void CompareAt(const ExampleConfig& config, const std::vector<Eigen::VectorXd>& 
   const double e_p_plain = error(plain.p, dense.p);
   EXPECT_LE(e_lambda, 1e-10) << "residual in double only: " << e_lambda_plain;
   EXPECT_LE(e_p, 1e-10) << "residual in double only: " << e_p_plain;
+  const double e_lambda_first = error(first.lambda, dense.lambda);
+  const double e_p_first = error(first.p, dense.p);
+  EXPECT_LE(e_lambda_first, 1e-10);
+  EXPECT_LE(e_p_first, 1e-10);
   EXPECT_LE(e_lambda_plain, std::max(1e-9, 10.0 * e_lambda_double))
       << "double: " << e_lambda_double;
   EXPECT_LE(e_p_plain, std::max(1e-9, 10.0 * e_p_double)) << "double: " << e_p_double;
@@ -176,12 +185,12 @@ void CompareAt(const ExampleConfig& config, const std::vector<Eigen::VectorXd>& 
   EXPECT_LE(e_lambda_extended, 1e-12) << "long double: " << e_lambda_long;
   EXPECT_LE(e_p_extended, 1e-12) << "long double: " << e_p_long;
   std::printf(
-      "[ kkt ] lambda %.2e%s, residual in double only %.2e, extended %.2e (dense formula in "
-      "double %.2e, in long double %.2e); p %.2e, %.2e, extended %.2e (%.2e, %.2e); backward "
-      "error %.2e (%.2e)\n",
-      e_lambda, adaptive_extended ? " (adaptive double-double step)" : "", e_lambda_plain,
-      e_lambda_extended, e_lambda_double, e_lambda_long, e_p, e_p_plain, e_p_extended, e_p_double,
-      e_p_long, b, b_double);
+      "[ kkt ] lambda %.2e%s, extended first %.2e, residual in double only %.2e, extended %.2e "
+      "(dense formula in double %.2e, in long double %.2e); p %.2e, %.2e, %.2e, extended %.2e "
+      "(%.2e, %.2e); backward error %.2e (%.2e)\n",
+      e_lambda, adaptive_extended ? " (adaptive double-double step)" : "", e_lambda_first,
+      e_lambda_plain, e_lambda_extended, e_lambda_double, e_lambda_long, e_p, e_p_first, e_p_plain,
+      e_p_extended, e_p_double, e_p_long, b, b_double);
 }
 
 class KktOracle : public ::testing::TestWithParam<std::string> {};

@@ -142,17 +142,37 @@ class BandedKktSolver {
   bool extended_residual() const { return extended_residual_; }
   void set_extended_residual(bool extended) { extended_residual_ = extended; }
   /// Without extended_residual(): when the first refinement step corrects the step by more than
-  /// this (relative, max(|dp| / |p|, |dλ| / |λ|)), Solve adds one refinement step with the
-  /// residual in double-double. The default 1e-11 keeps the refined step within ~1e-11 relative
-  /// of the exact one: a first correction of size c means a conditioning near c / 1e-16, which
-  /// a residual in double leaves as an error of about c (docs/solver.md, "Accuracy"). Well
-  /// conditioned systems (c ~ 1e-13 or below) pay nothing; infinity: never, 0: always.
+  /// this (relative, max(|dp|∞ / |p|∞, |dλ|∞ / |λ|∞), or NaN), Solve adds refinement steps with
+  /// the residual in double-double (see kMaxExtendedSteps). A first correction c signals a
+  /// conditioning that a residual in double cannot resolve: the step then keeps an error of
+  /// order c or more (up to 70 c measured on the examples). The default 1e-11 brings every
+  /// example within 2e-12 of the exact step (docs/solver.md, "Accuracy"); well conditioned
+  /// systems (c ~ 1e-13 or below) pay nothing. Infinity: never; 0: whenever c is not exactly 0.
   /// Throws InvalidArgument on NaN or a negative value.
   double extended_threshold() const { return extended_threshold_; }
   void set_extended_threshold(double threshold);
   /// Whether the last Solve refined with the residual in double-double (always with
-  /// extended_residual(); otherwise when the first correction exceeded extended_threshold()).
+  /// extended_residual() or extended_first(); otherwise when the first correction exceeded
+  /// extended_threshold()).
   bool last_solve_extended() const { return last_solve_extended_; }
+  /// Whether the last Solve's first refinement correction exceeded extended_threshold(), in
+  /// whichever precision it was computed: the system needed the double-double residual.
+  bool last_solve_needed_extended() const { return last_solve_needed_extended_; }
+  /// A hint for a sequence of related systems (the minimizer's iterations, which keep their
+  /// conditioning): the first refinement step takes the residual in double-double directly
+  /// (then more such steps as kMaxExtendedSteps says), instead of a
+  /// step in double followed by one in double-double. Saves a solve and a residual where the
+  /// extended step is needed, costs the difference of the residuals where it is not. The
+  /// minimizer sets it to the previous iteration's last_solve_needed_extended(), from false at
+  /// the start of each cold solve (warm starts continue it, as they continue the trust radius).
+  /// Default false.
+  bool extended_first() const { return extended_first_; }
+  void set_extended_first(bool extended_first) { extended_first_ = extended_first; }
+  /// Most refinement steps with the double-double residual in one Solve (without
+  /// extended_residual()): after the first, another follows while its correction c exceeds
+  /// √extended_threshold(); after two or more, while c times the contraction estimated from the
+  /// last two corrections exceeds extended_threshold().
+  static constexpr int kMaxExtendedSteps = 5;
   /// A constraint pivot d (the squared diagonal of the Cholesky factor of −S_j, S_j the Schur
   /// complement of the constraint part of pivot block j) with d <= tolerance · s is rank
   /// deficiency, s the sum of the positive contributions to (−S_j)_ii: about the row's squared
@@ -258,6 +278,11 @@ class BandedKktSolver {
   // Returns the relative size of the correction, max(|dp| / |p|, |dλ| / |λ|).
   double RefineOnce(const Eigen::VectorXd& g, const Eigen::VectorXd& h, bool extended,
                     Eigen::VectorXd* p, Eigen::VectorXd* lambda);
+  // After `steps` double-double steps whose last correction was `correction`: more as
+  // kMaxExtendedSteps says.
+  void FinishExtendedRefinement(const Eigen::VectorXd& g, const Eigen::VectorXd& h,
+                                double correction, int steps, Eigen::VectorXd* p,
+                                Eigen::VectorXd* lambda);
   void CalcResidual(const Eigen::VectorXd& g, const Eigen::VectorXd& h, const Eigen::VectorXd& p,
                     const Eigen::VectorXd& lambda, bool extended, Eigen::VectorXd* rp,
                     Eigen::VectorXd* rl);
@@ -276,6 +301,8 @@ class BandedKktSolver {
   bool extended_residual_{false};
   double extended_threshold_{1e-11};
   bool last_solve_extended_{false};
+  bool last_solve_needed_extended_{false};
+  bool extended_first_{false};
   double rank_tolerance_{1e-14};
   KktStatus status_;
   const PentaDiagonalMatrix* H_{nullptr};

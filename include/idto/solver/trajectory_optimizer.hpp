@@ -51,7 +51,9 @@ class TrajectoryOptimizer {
   /// Always returns a summary; on failure *solution holds the last good iterate.
   SolverSummary Solve(const std::vector<Eigen::VectorXd>& q_guess, Trajectory* solution);
 
-  /// Warm start (MPC): continues from the last solution and trust radius.
+  /// Warm start (MPC): continues from the last solution and trust radius (and, with Lagrange
+  /// multipliers, whether the last KKT step needed the double-double residual:
+  /// BandedKktSolver::set_extended_first).
   SolverSummary SolveWarmStart(Trajectory* solution);
   /// Replace the initial condition (keeps the current iterate and trust radius).
   void ResetInitialConditions(const Eigen::VectorXd& q_init, const Eigen::VectorXd& v_init);
