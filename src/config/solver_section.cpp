@@ -9,14 +9,22 @@ namespace idto::config_internal {
 
 namespace {
 
-const std::vector<std::string> kSolverKeys = {"max_iterations",    "num_threads",
-                                              "constraint_method", "penalty_weight",
-                                              "derivative_method", "finite_difference_step",
-                                              "scaling",           "initial_trust_radius",
-                                              "max_trust_radius",  "acceptance_ratio",
-                                              "cost_tolerance",    "gradient_tolerance",
-                                              "step_tolerance",    "fixed_iterations",
-                                              "verbosity",         "kkt_extended_residual",
+const std::vector<std::string> kSolverKeys = {"max_iterations",
+                                              "num_threads",
+                                              "constraint_method",
+                                              "penalty_weight",
+                                              "derivative_method",
+                                              "finite_difference_step",
+                                              "scaling",
+                                              "initial_trust_radius",
+                                              "max_trust_radius",
+                                              "acceptance_ratio",
+                                              "cost_tolerance",
+                                              "gradient_tolerance",
+                                              "step_tolerance",
+                                              "fixed_iterations",
+                                              "verbosity",
+                                              "kkt_extended_residual",
                                               "kkt_extended_threshold"};
 
 static_assert(static_cast<int>(ConstraintMethod::kNone) == 0 &&
