@@ -8,6 +8,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include <benchmark/benchmark.h>
 
@@ -16,13 +17,21 @@
 namespace idto::bench {
 
 /// Runs the benchmark loop on `opt` from `*solution` and sets the breakdown counters. Stops
-/// with an error when an iteration fails or logs nothing.
+/// with an error when an iteration fails or logs nothing. With `restart` (N + 1 configurations)
+/// every `restart_every`-th iteration is a cold Solve from it: the loop then cycles through the
+/// first restart_every iterations of one solve, the same work however many iterations the
+/// benchmark runs (without it, a faster build runs further into the solve, whose later
+/// iterations may cost more).
 inline void TimeSolverIterations(benchmark::State& state, TrajectoryOptimizer* opt,
-                                 Trajectory* solution) {
+                                 Trajectory* solution,
+                                 const std::vector<Eigen::VectorXd>* restart = nullptr,
+                                 int restart_every = 0) {
   double t_deriv = 0, t_hess = 0, t_fact = 0, t_mult = 0, t_cost = 0, t_contact = 0;
   std::int64_t n = 0;
   for (auto _ : state) {
-    const SolverSummary s = opt->SolveWarmStart(solution);
+    const SolverSummary s = restart != nullptr && n % restart_every == 0
+                                ? opt->Solve(*restart, solution)
+                                : opt->SolveWarmStart(solution);
     if (s.termination == TerminationType::kFailure || s.log.empty()) {
       state.SkipWithError(("no iteration: " + s.message).c_str());
       break;

@@ -9,6 +9,7 @@
 // All matrices are column-major with a leading dimension (ld) and are read and written in place.
 
 #include <cmath>
+#include <type_traits>
 
 #include <Eigen/Core>
 
@@ -64,8 +65,88 @@ inline void LowerSolveInPlace(const double* L, int ldl, const double* inverse_di
   }
 }
 
-/// x ← L⁻ᵀ x. L: size × size lower triangular (upper triangle not read), inverse_diagonal:
-/// 1 / L(k, k) (used as LowerSolveInPlace does); x: size.
+namespace small_dense_detail {
+
+// The triangular solves of one dense vector (the KKT sweeps) for R rows known at compile time:
+// unrolled, without the zero tests that pay off only for the factorization's sparse right-hand
+// sides. Same operations in the same order as the loops of LowerSolveInPlace and
+// LowerTransposeSolveInPlace.
+template <int R>
+void LowerSolveVectorFixed(const double* L, int ldl, const double* inverse_diagonal, double* x) {
+  for (int k = 0; k < R; ++k) {
+    const double* __restrict l = L + static_cast<long>(k) * ldl;
+    const double a = x[k] * inverse_diagonal[k];
+    x[k] = a;
+    for (int i = k + 1; i < R; ++i) x[i] -= a * l[i];
+  }
+}
+
+template <int R>
+void LowerTransposeSolveFixed(const double* L, int ldl, const double* inverse_diagonal, double* x) {
+  for (int k = R - 1; k >= 0; --k) {
+    const double* __restrict u = L + static_cast<long>(k) * ldl;
+    const double a = x[k] * inverse_diagonal[k];
+    x[k] = a;
+    for (int i = 0; i < k; ++i) x[i] -= a * u[i];
+  }
+}
+
+// Calls Kernel<size>(args...) for 1 <= size <= R; false for other sizes.
+template <int R, template <int> class Kernel, typename... Args>
+bool DispatchSize(int size, Args... args) {
+  if (size == R) {
+    Kernel<R>::Run(args...);
+    return true;
+  }
+  if constexpr (R > 1) {
+    return DispatchSize<R - 1, Kernel>(size, args...);
+  } else {
+    return false;
+  }
+}
+
+template <int R>
+struct LowerSolveVectorKernel {
+  static void Run(const double* L, int ldl, const double* d, double* x) {
+    LowerSolveVectorFixed<R>(L, ldl, d, x);
+  }
+};
+
+template <int R>
+struct LowerTransposeSolveKernel {
+  static void Run(const double* L, int ldl, const double* d, double* x) {
+    LowerTransposeSolveFixed<R>(L, ldl, d, x);
+  }
+};
+
+// SubtractTransposeTimes for a square R × R A: the fixed size unrolls each column's dot product
+// into independent partial sums that run side by side across columns (a dynamic trip count of
+// a few iterations leaves one chain of dependent additions per column).
+template <int R>
+void SubtractTransposeTimesFixed(const double* A, int lda, const double* x, double* y) {
+  using Square = Eigen::Matrix<double, R, R>;
+  using Column = Eigen::Matrix<double, R, 1>;
+  Eigen::Map<Column>(y).noalias() -=
+      Eigen::Map<const Square, 0, Eigen::OuterStride<>>(A, R, R, Eigen::OuterStride<>(lda))
+          .transpose()
+          .lazyProduct(Eigen::Map<const Column>(x));
+}
+
+template <int R>
+struct SubtractTransposeTimesKernel {
+  static void Run(const double* A, int lda, const double* x, double* y) {
+    SubtractTransposeTimesFixed<R>(A, lda, x, y);
+  }
+};
+
+}  // namespace small_dense_detail
+
+/// x ← L⁻ᵀ x. L: size × size lower triangular whose strictly upper triangle holds Lᵀ's (L(i, k) =
+/// L(k, i)), inverse_diagonal: 1 / L(k, k) (used as LowerSolveInPlace does); x: size. Below
+/// kSmallKernelLimit, by columns of the upper triangle: once x_k is known, x_{0..k−1} −= L(k,
+/// 0..k−1)ᵀ x_k, one contiguous axpy (dot products along L's columns would chain every term of
+/// x_k's sum through one accumulator). From the limit up, Eigen's solve, which reads the lower
+/// triangle only.
 inline void LowerTransposeSolveInPlace(const double* L, int ldl, const double* inverse_diagonal,
                                        int size, double* x) {
   if (size >= kSmallKernelLimit) {
@@ -76,11 +157,19 @@ inline void LowerTransposeSolveInPlace(const double* L, int ldl, const double* i
         .solveInPlace(v);
     return;
   }
-  for (int k = size - 1; k >= 0; --k) {
-    const double* __restrict l = L + static_cast<long>(k) * ldl;
-    double sum = x[k];
-    for (int i = k + 1; i < size; ++i) sum -= l[i] * x[i];
-    x[k] = sum * inverse_diagonal[k];
+  small_dense_detail::DispatchSize<kSmallKernelLimit - 1,
+                                   small_dense_detail::LowerTransposeSolveKernel>(
+      size, L, ldl, inverse_diagonal, x);
+}
+
+/// x ← L⁻¹ x for one dense vector x (size): LowerSolveInPlace without its zero tests below
+/// kSmallKernelLimit (same result).
+inline void LowerSolveVectorInPlace(const double* L, int ldl, const double* inverse_diagonal,
+                                    int size, double* x) {
+  if (!small_dense_detail::DispatchSize<kSmallKernelLimit - 1,
+                                        small_dense_detail::LowerSolveVectorKernel>(
+          size, L, ldl, inverse_diagonal, x)) {
+    LowerSolveInPlace(L, ldl, inverse_diagonal, size, x, size, 1);
   }
 }
 
@@ -91,6 +180,12 @@ inline void SubtractTransposeTimes(const double* A, int lda, int rows, int cols,
     Eigen::Map<Eigen::VectorXd>(y, cols).noalias() -=
         ConstMatrixMap(A, rows, cols, Eigen::OuterStride<>(lda)).transpose() *
         Eigen::Map<const Eigen::VectorXd>(x, rows);
+    return;
+  }
+  if (rows == cols &&
+      small_dense_detail::DispatchSize<kSmallKernelLimit - 1,
+                                       small_dense_detail::SubtractTransposeTimesKernel>(
+          rows, A, lda, x, y)) {
     return;
   }
   for (int j = 0; j < cols; ++j) {
@@ -122,26 +217,46 @@ inline void AddTimes(const double* A, int lda, int rows, int cols, const double*
   }
 }
 
-/// The rounding error of product = fl(a b): a b = product + error exactly (no overflow).
-/// kFma: one fma (__builtin_fma: an fma instruction where the caller is compiled for one, e.g.
-/// src/solver/extended_residual.cpp's fma variant; otherwise the C library's software fma).
-/// !kFma: Dekker's product with Veltkamp's splitting, exact in IEEE double without fused
-/// operations (the extended-residual KKT step measured 1.2–1.5× faster than the software fma,
-/// docs/solver.md). Both are exact, so both give the same bits.
-template <bool kFma>
-inline double TwoProductErrorWith(double a, double b, double product) {
+/// Four doubles as one GCC/Clang vector (one AVX register, or two SSE2 ones): the lanes of the
+/// double-double kernels below, whose arithmetic is lane-wise IEEE double.
+typedef double Lanes4 __attribute__((vector_size(32)));
+
+/// The rounding error of product = fl(a b): a b = product + *error exactly (no overflow). T:
+/// double or Lanes4 (lane-wise). kFma: one fma per lane (__builtin_fma: an fma instruction where
+/// the caller is compiled for one, e.g. src/solver/extended_residual.cpp's fma variant, which
+/// vectorizes the lanes' fmas; otherwise the C library's software fma). !kFma: Dekker's product
+/// with Veltkamp's splitting, exact in IEEE double without fused operations (the
+/// extended-residual KKT step measured 1.2–1.5× faster than the software fma, docs/solver.md).
+/// Both are exact, so both give the same bits. References, not values: a vector argument's ABI
+/// would depend on the instruction set.
+template <bool kFma, typename T>
+inline void TwoProductErrorInto(const T& a, const T& b, const T& product, T* error) {
   if constexpr (kFma) {
-    return __builtin_fma(a, b, -product);
+    if constexpr (std::is_same_v<T, double>) {
+      *error = __builtin_fma(a, b, -product);
+    } else {
+      for (int l = 0; l < static_cast<int>(sizeof(T) / sizeof(double)); ++l) {
+        (*error)[l] = __builtin_fma(a[l], b[l], -product[l]);
+      }
+    }
   } else {
     constexpr double kSplitter = 134217729.0;  // 2^27 + 1
-    const double ta = kSplitter * a;
-    const double a_hi = ta - (ta - a);
-    const double a_lo = a - a_hi;
-    const double tb = kSplitter * b;
-    const double b_hi = tb - (tb - b);
-    const double b_lo = b - b_hi;
-    return ((a_hi * b_hi - product) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
+    const T ta = kSplitter * a;
+    const T a_hi = ta - (ta - a);
+    const T a_lo = a - a_hi;
+    const T tb = kSplitter * b;
+    const T b_hi = tb - (tb - b);
+    const T b_lo = b - b_hi;
+    *error = ((a_hi * b_hi - product) + a_hi * b_lo + a_lo * b_hi) + a_lo * b_lo;
   }
+}
+
+/// TwoProductErrorInto for doubles, returning the error.
+template <bool kFma>
+inline double TwoProductErrorWith(double a, double b, double product) {
+  double error;
+  TwoProductErrorInto<kFma>(a, b, product, &error);
+  return error;
 }
 
 #ifdef __FMA__
@@ -155,17 +270,18 @@ inline double TwoProductError(double a, double b, double product) {
   return TwoProductErrorWith<kBuildHasFma>(a, b, product);
 }
 
-/// (hi + lo) ← (hi + lo) − a b in double-double arithmetic: the product is split exactly by
-/// TwoProductErrorWith, the sum by Knuth's TwoSum; the low parts' own rounding is of order ε |lo|.
-/// Requires that the compiler does not contract these expressions into fmas (CMakeLists.txt
-/// compiles its users with -ffp-contract=off).
-template <bool kFma>
-inline void SubtractProductExactlyWith(double a, double b, double* hi, double* lo) {
-  const double product = a * b;
-  const double product_error = TwoProductErrorWith<kFma>(a, b, product);  // a b = product + error
-  const double sum = *hi - product;
-  const double virtual_b = sum - *hi;
-  const double sum_error = (*hi - (sum - virtual_b)) + (-product - virtual_b);
+/// (hi + lo) ← (hi + lo) − a b in double-double arithmetic (T: double or Lanes4, lane-wise): the
+/// product is split exactly by TwoProductErrorInto, the sum by Knuth's TwoSum; the low parts' own
+/// rounding is of order ε |lo|. Requires that the compiler does not contract these expressions
+/// into fmas (CMakeLists.txt compiles its users with -ffp-contract=off).
+template <bool kFma, typename T>
+inline void SubtractProductExactlyWith(const T& a, const T& b, T* hi, T* lo) {
+  const T product = a * b;
+  T product_error;  // a b = product + product_error
+  TwoProductErrorInto<kFma>(a, b, product, &product_error);
+  const T sum = *hi - product;
+  const T virtual_b = sum - *hi;
+  const T sum_error = (*hi - (sum - virtual_b)) + (-product - virtual_b);
   *hi = sum;
   *lo += sum_error - product_error;
 }

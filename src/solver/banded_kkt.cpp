@@ -176,10 +176,6 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
   rl_ = Eigen::VectorXd::Zero(num_steps_ * nu_);
   dl_ = rl_;
   work_m_[0] = work_m_[1] = Eigen::VectorXd::Zero(m_);
-  for (int i = 0; i < 2; ++i) {
-    extended_hi_[i] = Eigen::VectorXd::Zero(std::max(n_, nu_));
-    extended_lo_[i] = extended_hi_[i];
-  }
   status_ = KktStatus{};
   last_solve_extended_ = last_solve_needed_extended_ = false;
   H_ = nullptr;
@@ -216,7 +212,11 @@ bool BandedKktSolver::FactorPivot(int r, double* scales, KktStatus* status) {
     *status = {KktStatus::Code::kConstraintsRankDeficient, r, row - n_, relative};
     return false;
   }
-  F.triangularView<Eigen::StrictlyUpper>().setZero();
+  // The strictly upper triangle mirrors the lower one: row k of F, contiguous, for the backward
+  // sweep's column-oriented F⁻ᵀ (internal::LowerTransposeSolveInPlace).
+  for (int j = 1; j < m; ++j) {
+    for (int i = 0; i < j; ++i) F(i, j) = F(j, i);
+  }
   return true;
 }
 
@@ -492,7 +492,7 @@ void BandedKktSolver::ForwardSweep(int e_begin, int e_end) {
       internal::SubtractTransposeTimes(Coupling(r, c[i]).data(), m, m, m,
                                        z + static_cast<long>(c[i]) * m, zr);
     }
-    internal::LowerSolveInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr, m, 1);
+    internal::LowerSolveVectorInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr);
     for (int i = n_; i < m; ++i) zr[i] = -zr[i];
   }
 }
@@ -674,8 +674,8 @@ void BandedKktSolver::CalcResidual(const Eigen::VectorXd& g, const Eigen::Vector
   // Two halves of the steps on two threads when the factorization also runs in two halves.
   const int halves = split_ < N ? 2 : 1;
   ParallelFor(0, halves, std::min(num_threads_, 2), [&](int i, int) {
-    internal::ExtendedKktResidual(H, A, g, h, p, lambda, i * N / halves, (i + 1) * N / halves,
-                                  extended_hi_[i].data(), extended_lo_[i].data(), rp, rl);
+    internal::ExtendedKktResidual(H, A, g, h, p, lambda, i * N / halves, (i + 1) * N / halves, rp,
+                                  rl);
   });
 }
 

@@ -25,12 +25,11 @@ bool CpuHasFma();
 /// Steps [begin, end) of rp = −g − H p − Aᵀλ (N n) and rl = −h − A p (N nu), each entry
 /// accumulated in double-double (exact products, TwoSum) and rounded once: rp's and rl's
 /// segments of those steps, which depend on no other step's output (disjoint ranges may run on
-/// separate threads, each with its own scratch). hi, lo: scratch of max(n, nu) doubles. Outputs
-/// must be sized.
+/// separate threads). Outputs must be sized. No allocation.
 void ExtendedKktResidual(const PentaDiagonalMatrix& H, const BlockConstraintJacobian& A,
                          const Eigen::VectorXd& g, const Eigen::VectorXd& h,
                          const Eigen::VectorXd& p, const Eigen::VectorXd& lambda, int begin,
-                         int end, double* hi, double* lo, Eigen::VectorXd* rp, Eigen::VectorXd* rl,
+                         int end, Eigen::VectorXd* rp, Eigen::VectorXd* rl,
                          ProductSplit split = ProductSplit::kAuto);
 
 }  // namespace idto::internal

@@ -65,9 +65,20 @@ TEST_P(SmallDense, LowerSolvesMatchEigen) {
     EXPECT_LE((X.topRows(m) - expected).norm(), 1e-13 * (1.0 + expected.norm())) << cols;
     EXPECT_TRUE((X.bottomRows(kPad).array() == -7.0).all()) << "wrote past the rows";
   }
+  VectorXd v = rng.Vector(m);
+  const VectorXd expected_v = L.triangularView<Eigen::Lower>().solve(v);
+  internal::LowerSolveVectorInPlace(Lp.data(), m + kPad, inverse.data(), m, v.data());
+  EXPECT_LE((v - expected_v).norm(), 1e-13 * (1.0 + expected_v.norm()));
+  // The transposed solve reads Lᵀ from the strictly upper triangle below the kernel limit (the
+  // lower one from it up).
   VectorXd x = SparseRandom(m, 1, &rng);
   const VectorXd expected = L.triangularView<Eigen::Lower>().transpose().solve(x);
-  internal::LowerTransposeSolveInPlace(Lp.data(), m + kPad, inverse.data(), m, x.data());
+  MatrixXd Lm = Lp;
+  Lm.topRows(m).triangularView<Eigen::StrictlyUpper>() =
+      MatrixXd(L.triangularView<Eigen::StrictlyLower>().transpose());
+  if (m >= internal::kSmallKernelLimit)
+    Lm.topRows(m).triangularView<Eigen::StrictlyUpper>().setConstant(1e300);
+  internal::LowerTransposeSolveInPlace(Lm.data(), m + kPad, inverse.data(), m, x.data());
   EXPECT_LE((x - expected).norm(), 1e-13 * (1.0 + expected.norm()));
 }
 
@@ -102,6 +113,11 @@ TEST_P(SmallDense, ProductsMatchEigen) {
   VectorXd expected = y - A.transpose() * x;
   internal::SubtractTransposeTimes(Ap.data(), m + kPad, m, m + 1, x.data(), y.data());
   EXPECT_LE((y - expected).norm(), 1e-13 * (1.0 + expected.norm()));
+  // Square: the fixed-size kernels below the limit.
+  VectorXd ys = y.head(m);
+  expected = ys - A.leftCols(m).transpose() * x;
+  internal::SubtractTransposeTimes(Ap.data(), m + kPad, m, m, x.data(), ys.data());
+  EXPECT_LE((ys - expected).norm(), 1e-13 * (1.0 + expected.norm()));
   VectorXd w = rng.Vector(m);
   expected = w + A * z;
   internal::AddTimes(Ap.data(), m + kPad, m, m + 1, z.data(), w.data());

@@ -328,8 +328,6 @@ class BandedKktSolver {
   }
   Eigen::VectorXd z_, rp_, rl_, dp_, dl_;
   Eigen::VectorXd work_m_[2];  // m each: the backward sweep's scratch, one per half
-  // max(n, nu): the extended residual's double-double accumulators (high and low parts).
-  Eigen::VectorXd extended_hi_[2], extended_lo_[2];  // max(n, nu) each, one per thread
 };
 
 }  // namespace idto
