@@ -20,8 +20,9 @@
 //   banded:   BandedKktSolver::Factor + Solve (λ and the Newton step p) + g_merit = g + Aᵀλ,
 //             with one step of iterative refinement, its residual in double (banded_unrefined:
 //             none; banded_extended: two steps with the residual in double-double;
-//             banded_adaptive_taken: the step in double, then one in double-double, as the
-//             default does when the first correction exceeds extended_threshold();
+//             banded_adaptive_taken: the step in double, then double-double steps as the
+//             default takes them when the first correction exceeds extended_threshold(), here
+//             with threshold 0, i.e. the maximum of kMaxExtendedSteps = 5;
 //             banded_2threads: as banded, with BandedKktSolver::set_num_threads(2));
 //   dense:    today's route: block Cholesky of H, Y = L⁻¹Aᵀ, A H⁻¹ Aᵀ = YᵀY dense and its LLT,
 //             λ, g_merit and p = −H⁻¹ g_merit (Aᵀ filled densely as CalcConstraints does);

@@ -77,8 +77,9 @@ std::string ThreadsSection(const Context& context, StudyResult* result) {
           ? std::vector<std::string>{"spinner", "quadruped"}
           : std::vector<std::string>{"spinner", "hopper", "quadruped", "allegro", "bimanual"};
   md << "**Threads.** `SolverOptions::num_threads` parallelizes the per-step work (derivatives, "
-        "cost, Hessian rows) over time steps; the factorization and the multipliers are "
-        "serial. Each example with its YAML settings, "
+        "cost, Hessian rows) over time steps; the penalty method's Cholesky is serial, the "
+        "multipliers' KKT factorization and solve run in two halves on two threads (blocks of "
+        "nq + n_u >= 8, N >= 8). Each example with its YAML settings, "
      << iterations << " iterations (`fixed_iterations`) from its initial guess, 1 and 2 "
      << "threads; median time of the iterations that computed derivatives, the smallest of "
      << repeats << " solve" << (repeats > 1 ? "s" : "") << " (derivative phase in parentheses). "
@@ -132,7 +133,8 @@ std::string ThreadsSection(const Context& context, StudyResult* result) {
                          : "**not** identical in every case (see the table)")
        << ". The derivative share is the part of a 1-thread iteration spent computing the "
           "derivatives (analytic, the default), the bulk of the parallel work (the cost and the "
-          "Hessian rows are parallel too; the factorization and the multipliers are not).";
+          "Hessian rows are parallel too, and the KKT system in two halves; the penalty method's "
+          "Cholesky is not).";
     if (best < 1.2 && load >= machine.cores - 0.5) {
       md << " The 1-minute load average was " << load_at_start << " when this study started, "
          << "on " << machine.cores
@@ -152,8 +154,6 @@ struct Series {
   std::vector<int> n;
   std::vector<double> ms;
 };
-
-constexpr int kMaxMultipliers = 1000;  // skip Lagrange beyond N n_u multipliers (dense, slow)
 
 /// One example of the horizon study: its table, fitted exponents, note and series.
 std::string HorizonExample(const Context& context, const std::string& name,
@@ -182,14 +182,11 @@ std::string HorizonExample(const Context& context, const std::string& name,
     const Timing a = TimeIterations(config, config.problem, options, horizon_repeats);
     options.num_threads = 2;
     const Timing b = TimeIterations(config, config.problem, options, horizon_repeats);
-    std::string lm_cell = "skipped";
-    if (n * nu <= kMaxMultipliers) {
-      options.constraint_method = ConstraintMethod::kLagrangeMultipliers;
-      const Timing c = TimeIterations(config, config.problem, options, horizon_repeats);
-      lm_cell = Ms(c.iteration) + " (" + Ms(c.multipliers) + ")";
-      lm.n.push_back(n);
-      lm.ms.push_back(1e3 * c.iteration);
-    }
+    options.constraint_method = ConstraintMethod::kLagrangeMultipliers;
+    const Timing c = TimeIterations(config, config.problem, options, horizon_repeats);
+    const std::string lm_cell = Ms(c.iteration) + " (" + Ms(c.multipliers) + ")";
+    lm.n.push_back(n);
+    lm.ms.push_back(1e3 * c.iteration);
     p1.n.push_back(n);
     p1.ms.push_back(1e3 * a.iteration);
     p2.n.push_back(n);
@@ -269,18 +266,20 @@ std::string HorizonSection(const Context& context, StudyResult* result) {
   md << "**Horizon.** The same examples with `num_steps` = N instead of their horizon (δt "
         "unchanged, so the plan covers N δt; the nominal is stretched over it), "
      << horizon_iterations << " iterations, median per iteration as above, smallest of "
-     << horizon_repeats << ". Lagrange multipliers are skipped where N·n_u > " << kMaxMultipliers
-     << " (the dense multiplier system would dominate the run time); their multiplier phase "
-        "is in parentheses.\n\n";
+     << horizon_repeats
+     << ". The Lagrange iteration's multiplier phase (the KKT factorization and solve, which "
+        "include the Hessian's) is in parentheses.\n\n";
   std::vector<Series> series;
   for (size_t e = 0; e < horizon_examples.size(); ++e) {
     md << HorizonExample(context, horizon_examples[e].first, horizon_examples[e].second,
                          static_cast<int>(e), horizons, horizon_iterations, horizon_repeats,
                          &series, result);
   }
-  md << "The penalty method's iteration is linear in N in theory (a block-pentadiagonal Hessian, "
-        "O(N nq³)); the multipliers need a dense (N·n_u)² factorization, cubic in N, which is the "
-        "paper's Fig. 6. The fitted exponents above are what this machine measured.\n\n";
+  md << "Both methods are linear in N in theory: the penalty method factors a block-pentadiagonal "
+        "Hessian (O(N nq³)), the multipliers a block-banded KKT system with the unknowns of each "
+        "step interleaved (O(N (nq + n_u)³), docs/solver.md). The paper's Fig. 6 shows the "
+        "multipliers cubic in N: that is the dense A H⁻¹ Aᵀ route, N·n_u square, which idto keeps "
+        "only as a test oracle. The fitted exponents above are what this machine measured.\n\n";
 
   if (context.gnuplot) md << HorizonFigure(context, series, horizons, horizon_iterations);
   return md.str();
