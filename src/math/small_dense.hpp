@@ -23,54 +23,11 @@ constexpr int kSmallKernelLimit = 16;
 using ConstMatrixMap = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 using MatrixMap = Eigen::Map<Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
 
-/// X ← L⁻¹ X. L: size × size lower triangular (its upper triangle is not read),
-/// inverse_diagonal: 1 / L(k, k) (size; below kSmallKernelLimit it replaces L's diagonal, a
-/// multiplication instead of a division on the critical path); X: size × cols. Two columns of X at
-/// a time, so each column of L is loaded once per pair.
-inline void LowerSolveInPlace(const double* L, int ldl, const double* inverse_diagonal, int size,
-                              double* X, int ldx, int cols) {
-  if (size >= kSmallKernelLimit) {
-    MatrixMap x(X, size, cols, Eigen::OuterStride<>(ldx));
-    ConstMatrixMap(L, size, size, Eigen::OuterStride<>(ldl))
-        .triangularView<Eigen::Lower>()
-        .solveInPlace(x);
-    return;
-  }
-  int c = 0;
-  for (; c + 1 < cols; c += 2) {
-    double* __restrict x0 = X + static_cast<long>(c) * ldx;
-    double* __restrict x1 = x0 + ldx;
-    for (int k = 0; k < size; ++k) {
-      const double* __restrict l = L + static_cast<long>(k) * ldl;
-      const double a0 = x0[k] * inverse_diagonal[k];
-      const double a1 = x1[k] * inverse_diagonal[k];
-      x0[k] = a0;
-      x1[k] = a1;
-      if (a0 == 0.0 && a1 == 0.0) continue;  // the right-hand sides are often sparse
-      for (int i = k + 1; i < size; ++i) {
-        x0[i] -= a0 * l[i];
-        x1[i] -= a1 * l[i];
-      }
-    }
-  }
-  for (; c < cols; ++c) {
-    double* __restrict x = X + static_cast<long>(c) * ldx;
-    for (int k = 0; k < size; ++k) {
-      const double* __restrict l = L + static_cast<long>(k) * ldl;
-      const double a = x[k] * inverse_diagonal[k];
-      x[k] = a;
-      if (a == 0.0) continue;
-      for (int i = k + 1; i < size; ++i) x[i] -= a * l[i];
-    }
-  }
-}
-
 namespace small_dense_detail {
 
 // The triangular solves of one dense vector (the KKT sweeps) for R rows known at compile time:
 // unrolled, without the zero tests that pay off only for the factorization's sparse right-hand
-// sides. Same operations in the same order as the loops of LowerSolveInPlace and
-// LowerTransposeSolveInPlace.
+// sides.
 template <int R>
 void LowerSolveVectorFixed(const double* L, int ldl, const double* inverse_diagonal, double* x) {
   for (int k = 0; k < R; ++k) {
@@ -91,6 +48,40 @@ void LowerTransposeSolveFixed(const double* L, int ldl, const double* inverse_di
   }
 }
 
+// Two columns of X at a time with R rows known at compile time: row i of the pair is one 2-lane
+// vector held in a register for the whole solve (each column of L is loaded once per pair, no
+// store until the end; measured 2.2× faster than the loops over a dynamic row count at R = 15).
+// A pair whose multipliers are both zero skips its update (the factorization's right-hand sides
+// are often sparse). Per entry, the same operations in the same order as a column at a time.
+template <int R>
+void LowerSolvePairsFixed(const double* L, int ldl, const double* inverse_diagonal, double* X,
+                          int ldx, int cols) {
+  typedef double Pair __attribute__((vector_size(16)));
+  int c = 0;
+  for (; c + 1 < cols; c += 2) {
+    double* x0 = X + static_cast<long>(c) * ldx;
+    double* x1 = x0 + ldx;
+    Pair x[R];
+#pragma GCC unroll 16
+    for (int i = 0; i < R; ++i) x[i] = Pair{x0[i], x1[i]};
+#pragma GCC unroll 16
+    for (int k = 0; k < R; ++k) {
+      const Pair a = x[k] * inverse_diagonal[k];
+      x[k] = a;
+      if (a[0] == 0.0 && a[1] == 0.0) continue;
+      const double* l = L + static_cast<long>(k) * ldl;
+#pragma GCC unroll 16
+      for (int i = k + 1; i < R; ++i) x[i] -= a * l[i];
+    }
+#pragma GCC unroll 16
+    for (int i = 0; i < R; ++i) {
+      x0[i] = x[i][0];
+      x1[i] = x[i][1];
+    }
+  }
+  if (c < cols) LowerSolveVectorFixed<R>(L, ldl, inverse_diagonal, X + static_cast<long>(c) * ldx);
+}
+
 // Calls Kernel<size>(args...) for 1 <= size <= R; false for other sizes.
 template <int R, template <int> class Kernel, typename... Args>
 bool DispatchSize(int size, Args... args) {
@@ -106,9 +97,9 @@ bool DispatchSize(int size, Args... args) {
 }
 
 template <int R>
-struct LowerSolveVectorKernel {
-  static void Run(const double* L, int ldl, const double* d, double* x) {
-    LowerSolveVectorFixed<R>(L, ldl, d, x);
+struct LowerSolveKernel {
+  static void Run(const double* L, int ldl, const double* d, double* X, int ldx, int cols) {
+    LowerSolvePairsFixed<R>(L, ldl, d, X, ldx, cols);
   }
 };
 
@@ -132,6 +123,19 @@ void SubtractTransposeTimesFixed(const double* A, int lda, const double* x, doub
           .lazyProduct(Eigen::Map<const Column>(x));
 }
 
+// AddTimes for a square R × R A: y stays in registers over the R column updates (measured
+// 1.2× faster on the KKT sweeps at R = 15 than the loop over a dynamic row count).
+template <int R>
+struct AddTimesKernel {
+  static void Run(const double* A, int lda, const double* x, double* y) {
+    using Column = Eigen::Matrix<double, R, 1>;
+    Column sum = Eigen::Map<const Column>(y);
+    for (int j = 0; j < R; ++j) sum.noalias() += x[j] * Eigen::Map<const Column>(A + j * lda);
+    Eigen::Map<Column> out(y);
+    out = sum;
+  }
+};
+
 template <int R>
 struct SubtractTransposeTimesKernel {
   static void Run(const double* A, int lda, const double* x, double* y) {
@@ -140,6 +144,23 @@ struct SubtractTransposeTimesKernel {
 };
 
 }  // namespace small_dense_detail
+
+/// X ← L⁻¹ X. L: size × size lower triangular (its upper triangle is not read),
+/// inverse_diagonal: 1 / L(k, k) (size; below kSmallKernelLimit it replaces L's diagonal, a
+/// multiplication instead of a division on the critical path); X: size × cols. Below the limit,
+/// two columns of X at a time in registers (small_dense_detail::LowerSolvePairsFixed).
+inline void LowerSolveInPlace(const double* L, int ldl, const double* inverse_diagonal, int size,
+                              double* X, int ldx, int cols) {
+  if (size >= kSmallKernelLimit) {
+    MatrixMap x(X, size, cols, Eigen::OuterStride<>(ldx));
+    ConstMatrixMap(L, size, size, Eigen::OuterStride<>(ldl))
+        .triangularView<Eigen::Lower>()
+        .solveInPlace(x);
+    return;
+  }
+  small_dense_detail::DispatchSize<kSmallKernelLimit - 1, small_dense_detail::LowerSolveKernel>(
+      size, L, ldl, inverse_diagonal, X, ldx, cols);
+}
 
 /// x ← L⁻ᵀ x. L: size × size lower triangular whose strictly upper triangle holds Lᵀ's (L(i, k) =
 /// L(k, i)), inverse_diagonal: 1 / L(k, k) (used as LowerSolveInPlace does); x: size. Below
@@ -160,17 +181,6 @@ inline void LowerTransposeSolveInPlace(const double* L, int ldl, const double* i
   small_dense_detail::DispatchSize<kSmallKernelLimit - 1,
                                    small_dense_detail::LowerTransposeSolveKernel>(
       size, L, ldl, inverse_diagonal, x);
-}
-
-/// x ← L⁻¹ x for one dense vector x (size): LowerSolveInPlace without its zero tests below
-/// kSmallKernelLimit (same result).
-inline void LowerSolveVectorInPlace(const double* L, int ldl, const double* inverse_diagonal,
-                                    int size, double* x) {
-  if (!small_dense_detail::DispatchSize<kSmallKernelLimit - 1,
-                                        small_dense_detail::LowerSolveVectorKernel>(
-          size, L, ldl, inverse_diagonal, x)) {
-    LowerSolveInPlace(L, ldl, inverse_diagonal, size, x, size, 1);
-  }
 }
 
 /// y −= Aᵀ x. A: rows × cols; x: rows; y: cols (dot products along A's columns).
@@ -207,6 +217,11 @@ inline void AddTimes(const double* A, int lda, int rows, int cols, const double*
     Eigen::Map<Eigen::VectorXd>(y, rows).noalias() +=
         ConstMatrixMap(A, rows, cols, Eigen::OuterStride<>(lda)) *
         Eigen::Map<const Eigen::VectorXd>(x, cols);
+    return;
+  }
+  if (rows == cols &&
+      small_dense_detail::DispatchSize<kSmallKernelLimit - 1, small_dense_detail::AddTimesKernel>(
+          rows, A, lda, x, y)) {
     return;
   }
   for (int j = 0; j < cols; ++j) {

@@ -492,7 +492,7 @@ void BandedKktSolver::ForwardSweep(int e_begin, int e_end) {
       internal::SubtractTransposeTimes(Coupling(r, c[i]).data(), m, m, m,
                                        z + static_cast<long>(c[i]) * m, zr);
     }
-    internal::LowerSolveVectorInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr);
+    internal::LowerSolveInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr, m, 1);
     for (int i = n_; i < m; ++i) zr[i] = -zr[i];
   }
 }

@@ -67,7 +67,7 @@ TEST_P(SmallDense, LowerSolvesMatchEigen) {
   }
   VectorXd v = rng.Vector(m);
   const VectorXd expected_v = L.triangularView<Eigen::Lower>().solve(v);
-  internal::LowerSolveVectorInPlace(Lp.data(), m + kPad, inverse.data(), m, v.data());
+  internal::LowerSolveInPlace(Lp.data(), m + kPad, inverse.data(), m, v.data(), m + kPad, 1);
   EXPECT_LE((v - expected_v).norm(), 1e-13 * (1.0 + expected_v.norm()));
   // The transposed solve reads Lᵀ from the strictly upper triangle below the kernel limit (the
   // lower one from it up).
@@ -122,6 +122,10 @@ TEST_P(SmallDense, ProductsMatchEigen) {
   expected = w + A * z;
   internal::AddTimes(Ap.data(), m + kPad, m, m + 1, z.data(), w.data());
   EXPECT_LE((w - expected).norm(), 1e-13 * (1.0 + expected.norm()));
+  VectorXd ws = rng.Vector(m);
+  expected = ws + A.leftCols(m) * z.head(m);
+  internal::AddTimes(Ap.data(), m + kPad, m, m, z.data(), ws.data());
+  EXPECT_LE((ws - expected).norm(), 1e-13 * (1.0 + expected.norm()));
 }
 
 TEST_P(SmallDense, CholeskyColumnsFactorAndLeaveTheSchurComplement) {
