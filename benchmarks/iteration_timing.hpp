@@ -18,14 +18,20 @@ namespace idto::bench {
 
 /// Runs the benchmark loop on `opt` from `*solution` and sets the breakdown counters. Stops
 /// with an error when an iteration fails or logs nothing. With `restart` (N + 1 configurations)
-/// every `restart_every`-th iteration is a cold Solve from it: the loop then cycles through the
-/// first restart_every iterations of one solve, the same work however many iterations the
-/// benchmark runs (without it, a faster build runs further into the solve, whose later
-/// iterations may cost more).
+/// and restart_every > 0, every restart_every-th iteration (the first included) is a cold Solve
+/// from it: the loop cycles through the first restart_every iterations of one solve, so the
+/// work does not depend on how far a run gets (without it, a faster build runs further into
+/// the solve, whose later iterations may cost more). A run whose iteration count is not a
+/// multiple of restart_every weights the early iterations of its last cycle more; a run of one
+/// iteration times the cold first one.
 inline void TimeSolverIterations(benchmark::State& state, TrajectoryOptimizer* opt,
                                  Trajectory* solution,
                                  const std::vector<Eigen::VectorXd>* restart = nullptr,
                                  int restart_every = 0) {
+  if (restart != nullptr && restart_every <= 0) {
+    state.SkipWithError("TimeSolverIterations: restart_every must be positive with a restart");
+    return;
+  }
   double t_deriv = 0, t_hess = 0, t_fact = 0, t_mult = 0, t_cost = 0, t_contact = 0;
   std::int64_t n = 0;
   for (auto _ : state) {

@@ -567,7 +567,8 @@ void QuadResidual(const KktProblem& P, const Eigen::VectorXd& p, const Eigen::Ve
 // The extended residual is bitwise the same with the product split by an fma instruction and by
 // Dekker's product (both exact), in one range of steps or two, on problems whose entries span
 // 1e-6..1e6; and it is the residual accumulated in __float128, rounded, to double-double's
-// accuracy (the sizes take every chunk width of the kernel: 23 = 8 + 8 + 4 + 2 + 1).
+// accuracy (the sizes' n and nu take every chunk of the kernel: one vector with 1..4 lanes, two
+// with 5..8; e.g. 23 = 8 + 8 + 7).
 TEST(BandedKkt, ExtendedResidualIsTheSameWithAndWithoutFmaInstructions) {
   test::Random rng(13);
   std::cout << "this CPU has fma: " << internal::CpuHasFma() << "\n";

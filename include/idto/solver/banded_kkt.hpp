@@ -311,7 +311,8 @@ class BandedKktSolver {
   // K = G Σ̂ Gᵀ (Σ̂ = diag(Σ, ..., Σ)) with G block lower triangular: G(r, r) = F_r and
   // G(r, c) = V(r, c) Σ for c = r−1, r−2. Vt1_[r] = V(r, r−1)ᵀ, Vt2_[r] = V(r, r−2)ᵀ (m × m).
   std::vector<Eigen::MatrixXd> Vt1_, Vt2_;
-  // F_[r] (m × m lower triangular, the upper triangle zero).
+  // F_[r] (m × m lower triangular; after a successful FactorPivot its strictly upper triangle
+  // mirrors the lower one, for the backward sweep's F⁻ᵀ by columns; nothing else reads it).
   std::vector<Eigen::MatrixXd> F_;
   // The separator's parts from the backward half: E_[i] (m × m) its update of D_{split_ + i},
   // Wt_[0] = V(split_, split_ + 2)ᵀ, Wt_[1] = V(split_ + 1, split_ + 3)ᵀ, Wt1_ = V(split_ + 1,
