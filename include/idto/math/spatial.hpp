@@ -91,21 +91,21 @@ struct SpatialForceTpl {
 
 /// Power: the scalar product of a motion and a force expressed in the same frame.
 template <typename Scalar>
-inline Scalar Dot(const SpatialMotionTpl<Scalar>& m, const SpatialForceTpl<Scalar>& F) {
+IDTO_ALWAYS_INLINE Scalar Dot(const SpatialMotionTpl<Scalar>& m, const SpatialForceTpl<Scalar>& F) {
   return m.w.dot(F.n) + m.v.dot(F.f);
 }
 
 /// Motion cross product m1 x m2 = [w1 x w2; w1 x v2 + v1 x w2].
 template <typename Scalar>
-inline SpatialMotionTpl<Scalar> Cross(const SpatialMotionTpl<Scalar>& m1,
-                                      const SpatialMotionTpl<Scalar>& m2) {
+IDTO_ALWAYS_INLINE SpatialMotionTpl<Scalar> Cross(const SpatialMotionTpl<Scalar>& m1,
+                                                  const SpatialMotionTpl<Scalar>& m2) {
   return {m1.w.cross(m2.w), m1.w.cross(m2.v) + m1.v.cross(m2.w)};
 }
 
 /// Force cross product m x* F = [w x n + v x f; w x f].
 template <typename Scalar>
-inline SpatialForceTpl<Scalar> CrossForce(const SpatialMotionTpl<Scalar>& m,
-                                          const SpatialForceTpl<Scalar>& F) {
+IDTO_ALWAYS_INLINE SpatialForceTpl<Scalar> CrossForce(const SpatialMotionTpl<Scalar>& m,
+                                                      const SpatialForceTpl<Scalar>& F) {
   return {m.w.cross(F.n) + m.v.cross(F.f), m.w.cross(F.f)};
 }
 
@@ -186,7 +186,7 @@ struct SpatialInertiaTpl {
   }
 
   /// Momentum I * m: [Ibar w + h x v; m v - h x w].
-  SpatialForceTpl<Scalar> operator*(const SpatialMotionTpl<Scalar>& m) const {
+  IDTO_ALWAYS_INLINE SpatialForceTpl<Scalar> operator*(const SpatialMotionTpl<Scalar>& m) const {
     return {Ibar * m.w + h.cross(m.v), mass * m.v - h.cross(m.w)};
   }
   SpatialInertiaTpl& operator+=(const SpatialInertiaTpl& o) {
@@ -202,10 +202,18 @@ struct SpatialInertiaTpl {
   }
 
   /// The same inertia expressed in frame A, given X_AB (this inertia is expressed in B).
-  SpatialInertiaTpl ExpressedIn(const RigidTransformTpl<Scalar>& X_AB) const {
+  IDTO_ALWAYS_INLINE SpatialInertiaTpl ExpressedIn(const RigidTransformTpl<Scalar>& X_AB) const {
     const Vec3 hR = X_AB.R * h;
     const Vec3& p = X_AB.p;
-    Mat3 I = X_AB.R * Ibar * X_AB.R.transpose();
+    // R Ibar R^T, its upper triangle computed and mirrored (exactly symmetric, 18 fewer products).
+    const Mat3 T = X_AB.R * Ibar;
+    Mat3 I;
+    for (int c = 0; c < 3; ++c) {
+      for (int r = 0; r <= c; ++r) {
+        I(r, c) = T(r, 0) * X_AB.R(c, 0) + T(r, 1) * X_AB.R(c, 1) + T(r, 2) * X_AB.R(c, 2);
+        I(c, r) = I(r, c);
+      }
+    }
     // Parallel-axis shift of the origin from Bo to Ao (see docs/architecture.md).
     I -= hR * p.transpose() + p * hR.transpose() + mass * p * p.transpose();
     I.diagonal().array() += 2.0 * hR.dot(p) + mass * p.squaredNorm();

@@ -30,6 +30,16 @@ inline bool IsMixedFrameTranslation(JointType type, int k) {
   return (type == JointType::kFloating && k >= 3) || (type == JointType::kPlanar && k < 2);
 }
 
+/// The world-frame motion subspace (at the world origin) of a moving body b whose joint has one
+/// degree of freedom (revolute, continuous or prismatic), given its world pose.
+template <typename Scalar>
+IDTO_ALWAYS_INLINE SpatialMotionTpl<Scalar> OneDofWorldMotionColumn(
+    const Model& model, BodyIndex b, const RigidTransformTpl<Scalar>& X_WB) {
+  const Vector3<Scalar> axis_W = X_WB.R * CastTo<Scalar>(model.joint_axis(b));
+  if (model.joint_type(b) == JointType::kPrismatic) return {Vector3<Scalar>::Zero(), axis_W};
+  return {axis_W, X_WB.p.cross(axis_W)};
+}
+
 /// The columns of the world-frame motion subspace of moving body b (at the world origin), given
 /// the world poses of its moving parent and of b.
 template <typename Scalar>
@@ -39,14 +49,8 @@ inline void WorldMotionSubspace(const Model& model, BodyIndex b,
                                 SpatialMotionTpl<Scalar>* S) {
   const Vector3<Scalar>& p = X_WB.p;
   const JointType type = model.joint_type(b);
-  if (type == JointType::kRevolute || type == JointType::kContinuous) {
-    S[0].w.noalias() = X_WB.R * CastTo<Scalar>(model.joint_axis(b));
-    S[0].v = p.cross(S[0].w);
-    return;
-  }
-  if (type == JointType::kPrismatic) {
-    S[0].w.setZero();
-    S[0].v.noalias() = X_WB.R * CastTo<Scalar>(model.joint_axis(b));
+  if (model.joint_nv(b) == 1) {
+    S[0] = OneDofWorldMotionColumn(model, b, X_WB);
     return;
   }
   Matrix3<Scalar> R_WJ;
@@ -87,39 +91,53 @@ inline SpatialMotionTpl<Scalar> LoadColumn(const Eigen::Matrix<Scalar, 6, Eigen:
 }
 
 /// Symmetric part of the angular block of B(I, V) = d(V x* I V)/dV - I [V x] for one body (the
-/// full B is [[B_sym - [h_n]x, 0], [-2 [h_f]x, 0]] with h = I V its momentum).
+/// full B is [[B_sym - [h_n]x, 0], [-2 [h_f]x, 0]] with h = I V its momentum), written entry by
+/// entry into *B (a returned temporary copied with 16-byte moves after 8-byte stores stalls on
+/// store forwarding).
 template <typename Scalar>
-inline Matrix3<Scalar> BodyBSym(const SpatialInertiaTpl<Scalar>& I,
-                                const SpatialMotionTpl<Scalar>& V) {
-  const Matrix3<Scalar> wI = Skew(V.w) * I.Ibar;
-  Matrix3<Scalar> B = wI + wI.transpose();
-  B.noalias() -= I.h * V.v.transpose();
-  B.noalias() -= V.v * I.h.transpose();
-  B.diagonal().array() += 2.0 * I.h.dot(V.v);
-  return B;
+inline void BodyBSym(const SpatialInertiaTpl<Scalar>& I, const SpatialMotionTpl<Scalar>& V,
+                     Matrix3<Scalar>* B) {
+  Matrix3<Scalar> wI;  // [w]x Ibar, by columns
+  for (int k = 0; k < 3; ++k) wI.col(k) = V.w.cross(I.Ibar.col(k));
+  const Scalar hv2 = 2.0 * I.h.dot(V.v);
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r <= c; ++r) {
+      Scalar b = wI(r, c) + wI(c, r) - I.h(r) * V.v(c) - V.v(r) * I.h(c);
+      if (r == c) b += hv2;
+      (*B)(r, c) = b;
+      (*B)(c, r) = b;
+    }
+  }
 }
 
 /// Forward pass for moving body j: pose, world motion subspace, velocity, acceleration, body
 /// force and the per-column derivative directions u, w, u' (data->dV_dq_, dA_dq_, dA_dv_).
-template <typename Scalar>
-inline void RneaDerivativesForwardBody(const Model& model, BodyIndex j, const Scalar* q,
-                                       const Scalar* v, const Scalar* a, DataTpl<Scalar>* data) {
+/// kOneDof: j's joint has one degree of freedom (no mixed-frame column); the motion subspace is
+/// then one local column the compiler keeps in registers.
+template <bool kOneDof, typename Scalar>
+inline void RneaDerivativesForwardBodyImpl(const Model& model, BodyIndex j, const Scalar* q,
+                                           const Scalar* v, const Scalar* a,
+                                           DataTpl<Scalar>* data) {
   using Motion = SpatialMotionTpl<Scalar>;
   const BodyIndex p = model.moving_parent(j);
-  const int n = model.joint_nv(j);
+  const int n = kOneDof ? 1 : model.joint_nv(j);
   const int iv = model.velocity_start(j);
   const JointType type = model.joint_type(j);
   CalcJointPose(model, j, q + model.position_start(j), &data->X_pi_[j], &data->R_JB_[j]);
   const RigidTransformTpl<Scalar>& X_Wp = data->X_WB_[p];
   RigidTransformTpl<Scalar>& X_WB = data->X_WB_[j];
   X_WB = X_Wp * data->X_pi_[j];
-  Motion S[6];
-  WorldMotionSubspace(model, j, X_Wp, X_WB, S);
+  Motion S[kOneDof ? 1 : 6];
+  if (kOneDof) {
+    S[0] = OneDofWorldMotionColumn(model, j, X_WB);
+  } else {
+    WorldMotionSubspace(model, j, X_Wp, X_WB, S);
+  }
   Motion vJ, aJ, Tv;
   for (int k = 0; k < n; ++k) {
     vJ += S[k] * v[iv + k];
     aJ += S[k] * a[iv + k];
-    if (IsMixedFrameTranslation(type, k)) Tv += S[k] * v[iv + k];
+    if (!kOneDof && IsMixedFrameTranslation(type, k)) Tv += S[k] * v[iv + k];
   }
   RneaDerivativeBodyTpl<Scalar>& body = data->deriv_body_[j];
   if (p == kWorldBody) {
@@ -137,7 +155,7 @@ inline void RneaDerivativesForwardBody(const Model& model, BodyIndex j, const Sc
   body.Ic = CastTo<Scalar>(model.merged_inertia(j)).ExpressedIn(X_WB);
   body.h = body.Ic * body.V;
   body.F = body.Ic * body.A + CrossForce(body.V, body.h);
-  body.B_sym = BodyBSym(body.Ic, body.V);
+  BodyBSym(body.Ic, body.V, &body.B_sym);
   body.ext_n.setZero();
   body.ext_f.setZero();
   body.ext_P.setZero();
@@ -147,7 +165,7 @@ inline void RneaDerivativesForwardBody(const Model& model, BodyIndex j, const Sc
     StoreColumn(s, iv + k, &data->S_);
     Motion u = Cross(body.V, s), up = Cross(V_sum, s);
     Motion w = Cross(body.A, s);
-    if (IsMixedFrameTranslation(type, k)) {
+    if (!kOneDof && IsMixedFrameTranslation(type, k)) {
       const Motion t_vJ = Cross(s, vJ);
       u += t_vJ;
       up += t_vJ;
@@ -157,6 +175,16 @@ inline void RneaDerivativesForwardBody(const Model& model, BodyIndex j, const Sc
     StoreColumn(u, iv + k, &data->dV_dq_);
     StoreColumn(w, iv + k, &data->dA_dq_);
     StoreColumn(up, iv + k, &data->dA_dv_);
+  }
+}
+
+template <typename Scalar>
+inline void RneaDerivativesForwardBody(const Model& model, BodyIndex j, const Scalar* q,
+                                       const Scalar* v, const Scalar* a, DataTpl<Scalar>* data) {
+  if (model.joint_nv(j) == 1) {
+    RneaDerivativesForwardBodyImpl<true>(model, j, q, v, a, data);
+  } else {
+    RneaDerivativesForwardBodyImpl<false>(model, j, q, v, a, data);
   }
 }
 
@@ -185,13 +213,89 @@ inline void RneaDerivativesExternalForces(const Model& model, const BodyForcesTp
 template <typename Scalar>
 using ForceColumns = Eigen::Matrix<Scalar, 6, 6>;
 
+/// What the backward step needs of one column s of joint i (with u, w, u' its derivative
+/// directions): g (for dtau_dq), h (for dtau_dv), k = Ic s (for M and the descendant rows), and
+/// the angular 3-vectors y2 = (B^T s)_w and y3 = (Phi^T s) (external forces) of the descendant
+/// rows.
+template <typename Scalar>
+struct RneaColumnTermsTpl {
+  Vector6<Scalar> g, h, k;  // spatial forces as [n; f]
+  Vector3<Scalar> y2, y3;
+};
+
+/// B x for an angular 3-vector x (the linear columns of B are zero; see BodyBSym).
+template <typename Scalar>
+IDTO_ALWAYS_INLINE SpatialForceTpl<Scalar> BodyBTimes(const RneaDerivativeBodyTpl<Scalar>& body,
+                                                      const Vector3<Scalar>& x) {
+  return {body.B_sym * x - body.h.n.cross(x), -2.0 * body.h.f.cross(x)};
+}
+
+template <typename Scalar>
+IDTO_ALWAYS_INLINE RneaColumnTermsTpl<Scalar> RneaColumnTerms(
+    const RneaDerivativeBodyTpl<Scalar>& body, const SpatialMotionTpl<Scalar>& s,
+    const SpatialMotionTpl<Scalar>& u, const SpatialMotionTpl<Scalar>& w,
+    const SpatialMotionTpl<Scalar>& up, bool with_ext) {
+  const Vector3<Scalar>& hn = body.h.n;
+  const Vector3<Scalar>& hf = body.h.f;
+  RneaColumnTermsTpl<Scalar> t;
+  SpatialForceTpl<Scalar> g = CrossForce(s, body.F) + body.Ic * w + BodyBTimes(body, u.w);
+  const SpatialForceTpl<Scalar> h = body.Ic * up + BodyBTimes(body, s.w);
+  const SpatialForceTpl<Scalar> k = body.Ic * s;
+  t.y2 = body.B_sym * s.w + hn.cross(s.w) + 2.0 * hf.cross(s.v);
+  if (with_ext) {
+    g.n -= body.ext_n.cross(s.w) + body.ext_P * s.w;
+    g.f -= body.ext_f.cross(s.w);
+    t.y3 = s.w.cross(body.ext_n) + body.ext_P.transpose() * s.w - body.ext_f.cross(s.v);
+  }
+  t.g << g.n, g.f;
+  t.h << h.n, h.f;
+  t.k << k.n, k.f;
+  return t;
+}
+
+/// The backward step's outputs for a moving body i with one degree of freedom (no mixed-frame
+/// column), given the terms t of its column: tau_i, the diagonal entries, then the ancestors'
+/// rows and columns column by column, as dot products of fixed size 6 and 3. Most joints have
+/// one degree of freedom; these are the general case's block products without their per-block
+/// setup, on values held in registers.
+template <typename Scalar>
+inline void RneaDerivativesOneColumn(const Model& model, BodyIndex i,
+                                     const RneaColumnTermsTpl<Scalar>& t, bool with_ext,
+                                     DataTpl<Scalar>* data) {
+  const int iv = model.velocity_start(i);
+  MatrixX<Scalar>& dq = data->dtau_dq_tangent;
+  MatrixX<Scalar>& dv = data->dtau_dv;
+  MatrixX<Scalar>& M = data->M;
+  const auto s_i = data->S_.col(iv);
+  const SpatialForceTpl<Scalar>& F = data->deriv_body_[i].F;
+  data->tau(iv) = s_i.template head<3>().dot(F.n) + s_i.template tail<3>().dot(F.f);
+  dq(iv, iv) = s_i.dot(t.g);
+  dv(iv, iv) = s_i.dot(t.h);
+  M(iv, iv) = s_i.dot(t.k);
+  for (BodyIndex j = model.moving_parent(i); j != kWorldBody; j = model.moving_parent(j)) {
+    const int end = model.velocity_start(j) + model.joint_nv(j);
+    for (int c = model.velocity_start(j); c < end; ++c) {
+      const auto s = data->S_.col(c);
+      dq(c, iv) = s.dot(t.g);
+      dv(c, iv) = s.dot(t.h);
+      const Scalar m = s.dot(t.k);
+      M(c, iv) = m;
+      M(iv, c) = m;
+      const auto sw = s.template head<3>();
+      Scalar dq_ic =
+          t.k.dot(data->dA_dq_.col(c)) + t.y2.dot(data->dV_dq_.col(c).template head<3>());
+      if (with_ext) dq_ic -= t.y3.dot(sw);
+      dq(iv, c) = dq_ic;
+      dv(iv, c) = t.k.dot(data->dA_dv_.col(c)) + t.y2.dot(sw);
+    }
+  }
+}
+
 /// Backward step at moving body i (its composites complete): tau_i and the blocks of
 /// dtau_dq_tangent, dtau_dv and M in the rows and columns of i and of its ancestors.
 template <typename Scalar>
 inline void RneaDerivativesBackwardBody(const Model& model, BodyIndex i, bool with_ext,
                                         DataTpl<Scalar>* data) {
-  using Motion = SpatialMotionTpl<Scalar>;
-  using Force = SpatialForceTpl<Scalar>;
   const RneaDerivativeBodyTpl<Scalar>& body = data->deriv_body_[i];
   const int n = model.joint_nv(i);
   const int iv = model.velocity_start(i);
@@ -199,32 +303,25 @@ inline void RneaDerivativesBackwardBody(const Model& model, BodyIndex i, bool wi
   MatrixX<Scalar>& dq = data->dtau_dq_tangent;
   MatrixX<Scalar>& dv = data->dtau_dv;
   MatrixX<Scalar>& M = data->M;
-  // Columns of joint i: G (for dq), H (for dv), K = Ic S (for M and the descendant rows), and
-  // the angular 3-vectors Y2 = (B^T S)_w and Y3 = (Phi^T S) of the descendant rows.
+  if (n == 1) {
+    const RneaColumnTermsTpl<Scalar> t =
+        RneaColumnTerms(body, LoadColumn(data->S_, iv), LoadColumn(data->dV_dq_, iv),
+                        LoadColumn(data->dA_dq_, iv), LoadColumn(data->dA_dv_, iv), with_ext);
+    RneaDerivativesOneColumn(model, i, t, with_ext, data);
+    return;
+  }
+  // Columns of joint i (RneaColumnTermsTpl): G (for dq), H (for dv), K = Ic S, Y2 and Y3.
   ForceColumns<Scalar> G, H, K;
   Eigen::Matrix<Scalar, 3, 6> Y2, Y3;
-  const Vector3<Scalar>& hn = body.h.n;
-  const Vector3<Scalar>& hf = body.h.f;
-  auto B_times = [&](const Vector3<Scalar>& x) {
-    return Force(body.B_sym * x - hn.cross(x), -2.0 * hf.cross(x));
-  };
   for (int c = 0; c < n; ++c) {
-    const Motion s = LoadColumn(data->S_, iv + c);
-    const Motion u = LoadColumn(data->dV_dq_, iv + c);
-    const Motion w = LoadColumn(data->dA_dq_, iv + c);
-    const Motion up = LoadColumn(data->dA_dv_, iv + c);
-    Force g = CrossForce(s, body.F) + body.Ic * w + B_times(u.w);
-    const Force h = body.Ic * up + B_times(s.w);
-    const Force k = body.Ic * s;
-    Y2.col(c) = body.B_sym * s.w + hn.cross(s.w) + 2.0 * hf.cross(s.v);
-    if (with_ext) {
-      g.n -= body.ext_n.cross(s.w) + body.ext_P * s.w;
-      g.f -= body.ext_f.cross(s.w);
-      Y3.col(c) = s.w.cross(body.ext_n) + body.ext_P.transpose() * s.w - body.ext_f.cross(s.v);
-    }
-    G.col(c) << g.n, g.f;
-    H.col(c) << h.n, h.f;
-    K.col(c) << k.n, k.f;
+    const RneaColumnTermsTpl<Scalar> t = RneaColumnTerms(
+        body, LoadColumn(data->S_, iv + c), LoadColumn(data->dV_dq_, iv + c),
+        LoadColumn(data->dA_dq_, iv + c), LoadColumn(data->dA_dv_, iv + c), with_ext);
+    G.col(c) = t.g;
+    H.col(c) = t.h;
+    K.col(c) = t.k;
+    Y2.col(c) = t.y2;
+    if (with_ext) Y3.col(c) = t.y3;
   }
   const auto S_i = data->S_.middleCols(iv, n);
   for (int r = 0; r < n; ++r) {
@@ -286,6 +383,13 @@ inline void RneaDerivativesToRawCoordinates(const Model& model, const Scalar* q,
                                             DataTpl<Scalar>* data) {
   const MatrixX<Scalar>& dq_t = data->dtau_dq_tangent;
   MatrixX<Scalar>& dq = data->dtau_dq;
+  // Columns of joints without a quaternion are copied in runs of consecutive columns (whole
+  // columns of a column-major matrix: one contiguous copy per run).
+  int run_q = 0, run_v = 0, run_n = 0;
+  auto flush = [&]() {
+    if (run_n > 0) dq.middleCols(run_q, run_n) = dq_t.middleCols(run_v, run_n);
+    run_n = 0;
+  };
   for (BodyIndex b : model.moving_bodies()) {
     const int iq = model.position_start(b), iv = model.velocity_start(b);
     if (model.joint_type(b) == JointType::kFloating) {
@@ -293,15 +397,26 @@ inline void RneaDerivativesToRawCoordinates(const Model& model, const Scalar* q,
       const Scalar n2 =
           q[iq] * q[iq] + q[iq + 1] * q[iq + 1] + q[iq + 2] * q[iq + 2] + q[iq + 3] * q[iq + 3];
       const Scalar scale = n2 > 0.0 ? Scalar(4.0 / n2) : Scalar(0);
-      // Inner dimension 3: a coefficient-based product (GEMM's packing costs more here).
-      dq.template middleCols<4>(iq).noalias() =
-          dq_t.template middleCols<3>(iv).lazyProduct(scale * E.transpose());
+      // Inner dimension 3: each quaternion column as a sum of three scaled whole columns
+      // (vectorized down the rows; GEMM's packing costs more at this size).
+      for (int k = 0; k < 4; ++k) {
+        dq.col(iq + k) = dq_t.col(iv) * (scale * E(k, 0)) + dq_t.col(iv + 1) * (scale * E(k, 1)) +
+                         dq_t.col(iv + 2) * (scale * E(k, 2));
+      }
       dq.template middleCols<3>(iq + 4) = dq_t.template middleCols<3>(iv + 3);
+      continue;
+    }
+    const int n = model.joint_nv(b);
+    if (run_n > 0 && iq == run_q + run_n && iv == run_v + run_n) {
+      run_n += n;
     } else {
-      const int n = model.joint_nv(b);
-      dq.middleCols(iq, n) = dq_t.middleCols(iv, n);
+      flush();
+      run_q = iq;
+      run_v = iv;
+      run_n = n;
     }
   }
+  flush();
 }
 
 }  // namespace internal
