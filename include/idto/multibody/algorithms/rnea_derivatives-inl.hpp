@@ -128,7 +128,7 @@ inline void RneaDerivativesForwardBodyImpl(const Model& model, BodyIndex j, cons
   RigidTransformTpl<Scalar>& X_WB = data->X_WB_[j];
   X_WB = X_Wp * data->X_pi_[j];
   Motion S[kOneDof ? 1 : 6];
-  if (kOneDof) {
+  if constexpr (kOneDof) {
     S[0] = OneDofWorldMotionColumn(model, j, X_WB);
   } else {
     WorldMotionSubspace(model, j, X_Wp, X_WB, S);
