@@ -29,8 +29,12 @@
 //   dense:    today's route: block Cholesky of H, Y = L⁻¹Aᵀ, A H⁻¹ Aᵀ = YᵀY dense and its LLT,
 //             λ, g_merit and p = −H⁻¹ g_merit (Aᵀ filled densely as CalcConstraints does);
 //             not run for allegro at N = 320 (about 10 s and 0.3 GB);
-//   cholesky: the block Cholesky of H and one solve (the penalty method's step), the reference
-//             for "the ratio to the penta-diagonal Cholesky".
+//   cholesky: the block Cholesky of H and one solve in the natural order
+//             (PentaDiagonalCholesky), the reference for "the ratio to the penta-diagonal
+//             Cholesky";
+//   cholesky_split, cholesky_split_2threads: the same in two halves, as the penalty method's
+//             step takes it (internal::SplitPentaDiagonalCholesky; natural order below N = 8 or
+//             blocks of 8), on 1 and 2 threads.
 
 #include <algorithm>
 #include <cmath>
@@ -45,6 +49,7 @@
 
 #include "idto/idto.hpp"
 #include "iteration_timing.hpp"
+#include "math/split_penta_diagonal_cholesky.hpp"
 
 namespace {
 
@@ -285,6 +290,21 @@ void BM_KktCholesky(benchmark::State& state, int n) {
   }
 }
 
+// The penalty route's Newton step: the two-half factorization and solve (1 or 2 threads), the
+// same arithmetic on either.
+void BM_KktCholeskySplit(benchmark::State& state, int n, int threads) {
+  const int N = static_cast<int>(state.range(0));
+  const KktProblem P = RandomKktProblem(N, n, 0);
+  idto::internal::SplitPentaDiagonalCholesky chol(N, n, threads);
+  Eigen::VectorXd p(N * n);
+  for (auto _ : state) {
+    if (!chol.compute(P.H)) return state.SkipWithError("factorization failed");
+    p = -P.g;
+    chol.SolveInPlace(&p);
+    benchmark::DoNotOptimize(p.data());
+  }
+}
+
 void RegisterKkt() {
   struct Size {
     const char* name;
@@ -313,7 +333,14 @@ void RegisterKkt() {
         (prefix + "dense").c_str(), [n, nu](benchmark::State& s) { BM_KktDense(s, n, nu); });
     auto* chol = benchmark::RegisterBenchmark((prefix + "cholesky").c_str(),
                                               [n](benchmark::State& s) { BM_KktCholesky(s, n); });
-    for (auto* b : {banded, unrefined, extended, adaptive, two_threads, dense, chol}) {
+    auto* split =
+        benchmark::RegisterBenchmark((prefix + "cholesky_split").c_str(),
+                                     [n](benchmark::State& s) { BM_KktCholeskySplit(s, n, 1); });
+    auto* split2 =
+        benchmark::RegisterBenchmark((prefix + "cholesky_split_2threads").c_str(),
+                                     [n](benchmark::State& s) { BM_KktCholeskySplit(s, n, 2); });
+    for (auto* b :
+         {banded, unrefined, extended, adaptive, two_threads, dense, chol, split, split2}) {
       b->ArgNames({"N"})->Unit(benchmark::kMicrosecond)->UseRealTime();
       for (int N : {10, 20, 40, 80, 160, 320}) {
         if (b == dense && n * N > 23 * 160) continue;

@@ -6,6 +6,7 @@
 #include <Eigen/Cholesky>
 
 #include "idto/core/errors.hpp"
+#include "math/penta_diagonal_blocks.hpp"
 
 namespace idto {
 
@@ -83,17 +84,81 @@ Eigen::MatrixXd PentaDiagonalMatrix::MakeDense() const {
 
 PentaDiagonalCholesky::PentaDiagonalCholesky(int num_blocks, int block_size)
     : num_blocks_(num_blocks), block_size_(block_size) {
-  const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(block_size, block_size);
-  L2_.assign(num_blocks, zero);
-  L1_.assign(num_blocks, zero);
-  L0_.assign(num_blocks, zero);
-  work_ = zero;
+  f_.Resize(num_blocks, block_size);
+}
+
+PentaDiagonalCholesky& PentaDiagonalCholesky::compute(const PentaDiagonalMatrix& H) {
+  if (H.num_blocks() != num_blocks_ || H.block_size() != block_size_) {
+    *this = PentaDiagonalCholesky(H.num_blocks(), H.block_size());
+  }
+  failed_block_ = -1;
+  for (int k = 0; k < num_blocks_; ++k) {
+    if (k >= 2) f_.L2[k] = H.A(k);
+    if (k >= 1) f_.L1[k] = H.B(k);
+    f_.L0[k] = H.C(k);
+    if (!internal::FactorStep(k, &f_)) {
+      info_ = Info::kNumericalIssue;
+      failed_block_ = k;
+      return *this;
+    }
+  }
+  info_ = Info::kSuccess;
+  return *this;
 }
 
 namespace {
 
-// In-place lower Cholesky of a small dense block (no allocation). Returns false when a pivot is
-// not positive and finite.
+// L Y = B in place (forward substitution), rows above `first` known to be zero and skipped.
+// X: a vector or a matrix (any block of columns).
+template <typename X>
+void ForwardSubstitution(const internal::PentaDiagonalFactorBlocks& f, int n, int first, X&& x) {
+  const auto block = [&x, n](int k) { return x.middleRows(k * n, n); };
+  const int num_blocks = static_cast<int>(f.L0.size());
+  for (int k = std::max(first, 0); k < num_blocks; ++k) {
+    internal::ForwardSubstitutionStep(f, k, first, block);
+  }
+}
+
+// L^T X = Y in place (backward substitution).
+template <typename X>
+void BackwardSubstitution(const internal::PentaDiagonalFactorBlocks& f, int n, X&& x) {
+  const auto block = [&x, n](int k) { return x.middleRows(k * n, n); };
+  const int num_blocks = static_cast<int>(f.L0.size());
+  for (int k = num_blocks - 1; k >= 0; --k) {
+    internal::BackwardSubstitutionStep(f, k, num_blocks, block);
+  }
+}
+
+}  // namespace
+
+void PentaDiagonalCholesky::SolveInPlace(Eigen::VectorXd* b) const {
+  ForwardSubstitution(f_, block_size_, 0, *b);
+  BackwardSubstitution(f_, block_size_, *b);
+}
+
+void PentaDiagonalCholesky::SolveInPlace(Eigen::MatrixXd* B) const {
+  ForwardSubstitution(f_, block_size_, 0, *B);
+  BackwardSubstitution(f_, block_size_, *B);
+}
+
+void PentaDiagonalCholesky::SolveLowerInPlace(Eigen::Ref<Eigen::MatrixXd> B,
+                                              int first_block) const {
+  ForwardSubstitution(f_, block_size_, first_block, B);
+}
+
+void PentaDiagonalCholesky::SolveLowerInPlace(Eigen::VectorXd* b) const {
+  ForwardSubstitution(f_, block_size_, 0, *b);
+}
+
+namespace internal {
+
+void PentaDiagonalFactorBlocks::Resize(int count, int n) {
+  const Eigen::MatrixXd zero = Eigen::MatrixXd::Zero(n, n);
+  L0.assign(count, zero);
+  L1.assign(count, zero);
+  L2.assign(count, zero);
+}
+
 bool CholeskyInPlace(Eigen::MatrixXd* S) {
   const int n = static_cast<int>(S->rows());
   Eigen::MatrixXd& M = *S;
@@ -115,93 +180,24 @@ bool CholeskyInPlace(Eigen::MatrixXd* S) {
   return true;
 }
 
-}  // namespace
-
-PentaDiagonalCholesky& PentaDiagonalCholesky::compute(const PentaDiagonalMatrix& H) {
-  if (H.num_blocks() != num_blocks_ || H.block_size() != block_size_) {
-    *this = PentaDiagonalCholesky(H.num_blocks(), H.block_size());
-  }
-  failed_block_ = -1;
-  for (int k = 0; k < num_blocks_; ++k) {
-    // L(k,k-2) = A(k) L(k-2,k-2)^-T
-    if (k >= 2) {
-      L2_[k] = H.A(k);
-      L0_[k - 2].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(L2_[k]);
-    }
-    // L(k,k-1) = (B(k) - L(k,k-2) L(k-1,k-2)^T) L(k-1,k-1)^-T
-    if (k >= 1) {
-      L1_[k] = H.B(k);
-      if (k >= 2) L1_[k].noalias() -= L2_[k] * L1_[k - 1].transpose();
-      L0_[k - 1].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(L1_[k]);
-    }
-    // L(k,k) = chol(C(k) - L(k,k-2) L(k,k-2)^T - L(k,k-1) L(k,k-1)^T)
-    L0_[k] = H.C(k);
-    if (k >= 1) L0_[k].noalias() -= L1_[k] * L1_[k].transpose();
-    if (k >= 2) L0_[k].noalias() -= L2_[k] * L2_[k].transpose();
-    if (!CholeskyInPlace(&L0_[k])) {
-      info_ = Info::kNumericalIssue;
-      failed_block_ = k;
-      return *this;
-    }
-  }
-  info_ = Info::kSuccess;
-  return *this;
+void EliminateSecondNeighbour(int i, PentaDiagonalFactorBlocks* f) {
+  f->L0[i - 2].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(f->L2[i]);
+  f->L1[i].noalias() -= f->L2[i] * f->L1[i - 1].transpose();
+  // Only the lower triangle is formed (half the flops of the full product).
+  f->L0[i].selfadjointView<Eigen::Lower>().rankUpdate(f->L2[i], -1.0);
 }
 
-namespace {
-
-// L Y = B in place (forward substitution), rows above `first` known to be zero and skipped.
-// X: a vector or a matrix (any block of columns).
-template <typename X>
-void ForwardSubstitution(const std::vector<Eigen::MatrixXd>& L0,
-                         const std::vector<Eigen::MatrixXd>& L1,
-                         const std::vector<Eigen::MatrixXd>& L2, int n, int first, X&& x) {
-  const int num_blocks = static_cast<int>(L0.size());
-  for (int k = std::max(first, 0); k < num_blocks; ++k) {
-    auto xk = x.middleRows(k * n, n);
-    if (k - 1 >= first) xk.noalias() -= L1[k] * x.middleRows((k - 1) * n, n);
-    if (k - 2 >= first) xk.noalias() -= L2[k] * x.middleRows((k - 2) * n, n);
-    L0[k].template triangularView<Eigen::Lower>().solveInPlace(xk);
-  }
+void EliminateFirstNeighbour(int i, PentaDiagonalFactorBlocks* f) {
+  f->L0[i - 1].transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(f->L1[i]);
+  f->L0[i].selfadjointView<Eigen::Lower>().rankUpdate(f->L1[i], -1.0);
 }
 
-// L^T X = Y in place (backward substitution).
-template <typename X>
-void BackwardSubstitution(const std::vector<Eigen::MatrixXd>& L0,
-                          const std::vector<Eigen::MatrixXd>& L1,
-                          const std::vector<Eigen::MatrixXd>& L2, int n, X&& x) {
-  const int num_blocks = static_cast<int>(L0.size());
-  for (int k = num_blocks - 1; k >= 0; --k) {
-    auto xk = x.middleRows(k * n, n);
-    if (k + 1 < num_blocks) {
-      xk.noalias() -= L1[k + 1].transpose() * x.middleRows((k + 1) * n, n);
-    }
-    if (k + 2 < num_blocks) {
-      xk.noalias() -= L2[k + 2].transpose() * x.middleRows((k + 2) * n, n);
-    }
-    L0[k].template triangularView<Eigen::Lower>().transpose().solveInPlace(xk);
-  }
+bool FactorStep(int i, PentaDiagonalFactorBlocks* f) {
+  if (i >= 2) EliminateSecondNeighbour(i, f);
+  if (i >= 1) EliminateFirstNeighbour(i, f);
+  return CholeskyInPlace(&f->L0[i]);
 }
 
-}  // namespace
-
-void PentaDiagonalCholesky::SolveInPlace(Eigen::VectorXd* b) const {
-  ForwardSubstitution(L0_, L1_, L2_, block_size_, 0, *b);
-  BackwardSubstitution(L0_, L1_, L2_, block_size_, *b);
-}
-
-void PentaDiagonalCholesky::SolveInPlace(Eigen::MatrixXd* B) const {
-  ForwardSubstitution(L0_, L1_, L2_, block_size_, 0, *B);
-  BackwardSubstitution(L0_, L1_, L2_, block_size_, *B);
-}
-
-void PentaDiagonalCholesky::SolveLowerInPlace(Eigen::Ref<Eigen::MatrixXd> B,
-                                              int first_block) const {
-  ForwardSubstitution(L0_, L1_, L2_, block_size_, first_block, B);
-}
-
-void PentaDiagonalCholesky::SolveLowerInPlace(Eigen::VectorXd* b) const {
-  ForwardSubstitution(L0_, L1_, L2_, block_size_, 0, *b);
-}
+}  // namespace internal
 
 }  // namespace idto

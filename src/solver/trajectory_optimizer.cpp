@@ -53,7 +53,7 @@ class TrajectoryOptimizer::Impl {
     trial_ = transcription_.MakeState();
     derivatives_ = transcription_.MakeDerivatives();
     H_ = PentaDiagonalMatrix(N_, nq_);
-    chol_ = PentaDiagonalCholesky(N_, nq_);
+    chol_ = internal::SplitPentaDiagonalCholesky(N_, nq_, options_.num_threads);
     const Eigen::VectorXd zero = Eigen::VectorXd::Zero(N_ * nq_);
     g_ = g_merit_ = p_ = p_newton_ = p_cauchy_ = scratch_a_ = scratch_b_ = zero;
     D_ = Eigen::VectorXd::Ones(N_ * nq_);
@@ -78,6 +78,7 @@ class TrajectoryOptimizer::Impl {
     kkt_.set_extended_residual(options_.kkt_extended_residual);
     kkt_.set_extended_threshold(options_.kkt_extended_threshold);
     kkt_.set_num_threads(options_.num_threads);
+    chol_.set_num_threads(options_.num_threads);
   }
 
   bool lagrange() const {
@@ -363,9 +364,9 @@ class TrajectoryOptimizer::Impl {
   TrajectoryState trial_;              // the trial point x + p
   TrajectoryDerivatives derivatives_;  // at x_
   PentaDiagonalMatrix H_;              // Gauss-Newton Hessian at x_ (with any LM shift)
-  PentaDiagonalCholesky chol_;         // its factor
-  BlockConstraintJacobian A_;          // dh/dq at x_ by blocks (Lagrange method)
-  BandedKktSolver kkt_;                // its KKT factorization with H_
+  internal::SplitPentaDiagonalCholesky chol_;  // its factor (penalty route)
+  BlockConstraintJacobian A_;                  // dh/dq at x_ by blocks (Lagrange method)
+  BandedKktSolver kkt_;                        // its KKT factorization with H_
   // N nq each: gradient of L; of the merit L + h^T lambda; scaling D; the step; Newton and
   // Cauchy points; scratch of the trust-region functions (no fixed meaning between calls).
   Eigen::VectorXd g_, g_merit_, D_, p_, p_newton_, p_cauchy_, scratch_a_, scratch_b_;

@@ -18,12 +18,9 @@ void CalcScaling(const PentaDiagonalMatrix& H, ScalingMethod method, Eigen::Vect
   }
 }
 
-bool FactorizeWithShift(PentaDiagonalMatrix* H, PentaDiagonalCholesky* chol,
+bool FactorizeWithShift(PentaDiagonalMatrix* H, SplitPentaDiagonalCholesky* chol,
                         Eigen::VectorXd* diagonal, double* mu) {
-  return FactorWithShift(H, diagonal, mu, [&] {
-    chol->compute(*H);
-    return chol->info() == PentaDiagonalCholesky::Info::kSuccess;
-  });
+  return FactorWithShift(H, diagonal, mu, [&] { return chol->compute(*H); });
 }
 
 void CalcCauchyPoint(const PentaDiagonalMatrix& H, const Eigen::VectorXd& g,

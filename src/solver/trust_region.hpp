@@ -12,6 +12,7 @@
 #include "idto/math/penta_diagonal_matrix.hpp"
 #include "idto/solver/solver_options.hpp"
 #include "idto/solver/solver_summary.hpp"
+#include "math/split_penta_diagonal_cholesky.hpp"
 
 namespace idto::internal {
 
@@ -55,8 +56,9 @@ bool FactorWithShift(PentaDiagonalMatrix* H, Eigen::VectorXd* diagonal, double* 
   return false;
 }
 
-// FactorWithShift with the penta-diagonal Cholesky.
-bool FactorizeWithShift(PentaDiagonalMatrix* H, PentaDiagonalCholesky* chol,
+// FactorWithShift with the penta-diagonal Cholesky (in two halves from the sizes of
+// SplitPentaDiagonalCholesky).
+bool FactorizeWithShift(PentaDiagonalMatrix* H, SplitPentaDiagonalCholesky* chol,
                         Eigen::VectorXd* diagonal, double* mu);
 
 // The Cauchy point of the scaled model: p_C = -(|D g|^2 / (D^2 g)^T H (D^2 g)) D^2 g (or -D^2 g

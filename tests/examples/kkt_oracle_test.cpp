@@ -94,7 +94,7 @@ void CompareAt(const ExampleConfig& config, const std::vector<Eigen::VectorXd>& 
   t.CalcConstraints(state, &h);
   PentaDiagonalMatrix H(N, n);
   t.CalcHessian(state, d, &H);
-  PentaDiagonalCholesky chol(N, n);
+  internal::SplitPentaDiagonalCholesky chol(N, n, 1);
   double mu = 0.0;
   ASSERT_TRUE(internal::FactorizeWithShift(&H, &chol, &diagonal, &mu));
 

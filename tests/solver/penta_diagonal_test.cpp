@@ -5,7 +5,9 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>
 
+#include "idto/core/errors.hpp"
 #include "idto/math/penta_diagonal_matrix.hpp"
+#include "math/split_penta_diagonal_cholesky.hpp"
 #include "support/eigen_matchers.hpp"
 #include "support/random.hpp"
 
@@ -128,6 +130,99 @@ TEST(PentaDiagonal, ScaleSymmetricIsDHD) {
   Eigen::VectorXd diag;
   H.Diagonal(&diag);
   EXPECT_EIGEN_NEAR(diag, Eigen::VectorXd(H.MakeDense().diagonal()), 0.0);
+}
+
+using internal::SplitPentaDiagonalCholesky;
+
+// The two-half factorization (the penalty route's Newton step) against dense Eigen, on sizes
+// below and above the split thresholds and every horizon from 1 to 21 (both parities of the
+// halves, the smallest split horizon 8 with halves of 3).
+TEST(SplitPentaDiagonal, SolvesLikeDenseOnEverySplit) {
+  test::Random rng(6);
+  for (int n : {2, SplitPentaDiagonalCholesky::kMinBlockSize, 11}) {
+    for (int N = 1; N <= 21; ++N) {
+      for (double condition : {1.0, 1e6, 1e12}) {
+        SCOPED_TRACE(::testing::Message() << "cond=" << condition << " N=" << N << " n=" << n);
+        const PentaDiagonalMatrix H = RandomSpd(N, n, condition, &rng);
+        const Eigen::MatrixXd D = H.MakeDense();
+        const Eigen::VectorXd b = rng.Vector(N * n);
+        SplitPentaDiagonalCholesky chol(N, n, 2);
+        EXPECT_EQ(chol.two_halves(), N >= SplitPentaDiagonalCholesky::kMinBlocks &&
+                                         n >= SplitPentaDiagonalCholesky::kMinBlockSize);
+        ASSERT_TRUE(chol.compute(H));
+        EXPECT_EQ(chol.failed_block(), -1);
+        Eigen::VectorXd x = b;
+        chol.SolveInPlace(&x);
+        EXPECT_LT((D * x - b).norm() / (D.norm() * x.norm() + b.norm()), 1e-14);
+        const Eigen::VectorXd x_dense = D.llt().solve(b);
+        const double cond = 1.0 / D.llt().rcond();
+        EXPECT_LT((x - x_dense).norm() / x_dense.norm(), 1e-15 * cond + 1e-12);
+      }
+    }
+  }
+}
+
+TEST(SplitPentaDiagonal, OneAndTwoThreadsAreBitwiseEqual) {
+  test::Random rng(7);
+  const int N = 20, n = 12;
+  const PentaDiagonalMatrix H = RandomSpd(N, n, 1e8, &rng);
+  const Eigen::VectorXd b = rng.Vector(N * n);
+  SplitPentaDiagonalCholesky one(N, n, 1), two(N, n, 2);
+  ASSERT_TRUE(one.two_halves());
+  ASSERT_TRUE(one.compute(H));
+  Eigen::VectorXd x1 = b;
+  one.SolveInPlace(&x1);
+  for (int repeat = 0; repeat < 20; ++repeat) {
+    ASSERT_TRUE(two.compute(H));
+    Eigen::VectorXd x2 = b;
+    two.SolveInPlace(&x2);
+    ASSERT_EQ(x1, x2) << "repeat " << repeat;
+  }
+  // set_num_threads switches between them; the result stays the same.
+  one.set_num_threads(2);
+  ASSERT_TRUE(one.compute(H));
+  Eigen::VectorXd x3 = b;
+  one.SolveInPlace(&x3);
+  EXPECT_EQ(x1, x3);
+  EXPECT_THROW(one.set_num_threads(0), InvalidArgument);
+}
+
+// A pivot that is not positive definite in the top half, the bottom half or either separator
+// block is reported with its block row, on one and two threads; an SPD matrix factors again
+// afterwards.
+TEST(SplitPentaDiagonal, ReportsTheFailedBlockInEitherHalfAndTheSeparator) {
+  test::Random rng(8);
+  const int N = 12, n = 8;  // s = 5: top 0..4, separator 5 and 6, bottom 11..7
+  const PentaDiagonalMatrix good = RandomSpd(N, n, 10.0, &rng);
+  for (int threads : {1, 2}) {
+    for (int block : {0, 3, 5, 6, 8, 11}) {
+      SCOPED_TRACE(::testing::Message() << "threads=" << threads << " block=" << block);
+      PentaDiagonalMatrix H = good;
+      H.C(block)(2, 2) = -1e4;
+      SplitPentaDiagonalCholesky chol(N, n, threads);
+      EXPECT_FALSE(chol.compute(H));
+      EXPECT_EQ(chol.failed_block(), block);
+      H.C(block)(2, 2) = std::nan("");
+      EXPECT_FALSE(chol.compute(H));
+      EXPECT_EQ(chol.failed_block(), block);
+      ASSERT_TRUE(chol.compute(good));
+      EXPECT_EQ(chol.failed_block(), -1);
+    }
+    // Both halves fail: the top's block is the one reported.
+    PentaDiagonalMatrix H = good;
+    H.C(2)(0, 0) = -1e4;
+    H.C(9)(0, 0) = -1e4;
+    SplitPentaDiagonalCholesky chol(N, n, threads);
+    EXPECT_FALSE(chol.compute(H));
+    EXPECT_EQ(chol.failed_block(), 2);
+  }
+}
+
+TEST(SplitPentaDiagonal, RejectsBadSizes) {
+  SplitPentaDiagonalCholesky chol(10, 8, 1);
+  EXPECT_THROW(chol.compute(PentaDiagonalMatrix(10, 7)), InvalidArgument);
+  EXPECT_THROW(SplitPentaDiagonalCholesky(-1, 8, 1), InvalidArgument);
+  EXPECT_THROW(SplitPentaDiagonalCholesky(10, 8, 0), InvalidArgument);
 }
 
 }  // namespace

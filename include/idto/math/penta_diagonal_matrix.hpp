@@ -47,6 +47,17 @@ class PentaDiagonalMatrix {
   std::vector<Eigen::MatrixXd> A_, B_, C_;
 };
 
+namespace internal {
+/// The blocks of a penta-diagonal Cholesky factor along an elimination order (position i):
+/// L0[i] the lower Cholesky factor of the i-th pivot, L1[i] = L(i, i-1), L2[i] = L(i, i-2), each
+/// n x n (src/math/penta_diagonal_blocks.hpp computes them).
+struct PentaDiagonalFactorBlocks {
+  std::vector<Eigen::MatrixXd> L0, L1, L2;
+  /// `count` zero n x n blocks in each array.
+  void Resize(int count, int n);
+};
+}  // namespace internal
+
 /// Block Cholesky factorization H = L L^T of a PentaDiagonalMatrix (L block lower triangular
 /// with the same band). Eigen-like: construct (preallocates), compute(), info(), solve in place.
 class PentaDiagonalCholesky {
@@ -79,9 +90,8 @@ class PentaDiagonalCholesky {
   int block_size_{0};
   Info info_{Info::kNotComputed};
   int failed_block_{-1};
-  // L(k, k-2), L(k, k-1), and the lower Cholesky factor of the diagonal block.
-  std::vector<Eigen::MatrixXd> L2_, L1_, L0_;
-  Eigen::MatrixXd work_;
+  // L0[k]: the lower Cholesky factor of pivot k; L1[k] = L(k, k-1), L2[k] = L(k, k-2).
+  internal::PentaDiagonalFactorBlocks f_;
 };
 
 }  // namespace idto
