@@ -200,11 +200,11 @@ TEST(ClosedLoopMujoco, HopperHopsForward) {
 }
 
 // Bi-manual lift: the box held >= 5 cm up over the last second, through the example's 10 N push.
-// One run's outcome depends on the latency and on round-off (the penalty route's two-half
-// Cholesky, a round-off-level change, turned the 3 ms run from a 0.19 m hold into a drop while
-// the 1, 2, 4 and 5 ms runs still held; over 50 randomized campaign runs the success counts
-// before and after were 18 and 17), so the test asserts a rate over five fixed latencies: at
-// least 3 of 5 (5 of 5 before that change, 4 of 5 after).
+// One run's outcome depends on the latency and on round-off: a round-off-level change of the
+// penalty route's Cholesky (a version of the two-half order, session 14) turned the 3 ms run from
+// a 0.19 m hold into a drop while the 1, 2, 4 and 5 ms runs still held, and over 50 randomized
+// campaign runs the success counts before and after were 18 and 17. So the test asserts a rate
+// over five fixed latencies: at least 3 of 5 (5 of 5 when this was written).
 TEST(ClosedLoopMujoco, BimanualLiftHoldsTheBoxThroughAPush) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
   int successes = 0;
