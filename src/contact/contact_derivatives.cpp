@@ -84,6 +84,65 @@ void AnalyticGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const
   CompleteWithInvariance(n, p_A, p_B, J);
 }
 
+// Closed forms of the sphere pairs (sphere-sphere, and half-space-sphere: the engine puts a
+// half-space first; every pair of the examples' models), the same quantities as the
+// dual-number route above without its arithmetic on 7-component numbers (measured: 23 % of a
+// bi-manual iteration went to that route). B's twist moves a point c of B by -[c]x theta + rho.
+// False for other pairs, which take the dual-number route.
+Eigen::Matrix<double, 3, 6> PointJacobian(const Vector3d& c) {
+  Eigen::Matrix<double, 3, 6> J;
+  J << -Skew<double>(c), Matrix3d::Identity();
+  return J;
+}
+
+bool SphereGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const Shape& b,
+                            const RigidTransform& X_WGb, PairGeometryJacobian* J) {
+  const Sphere* sa = std::get_if<Sphere>(&a);
+  const Sphere* sb = std::get_if<Sphere>(&b);
+  if (sa != nullptr && sb != nullptr) {
+    // d = c_B - c_A, phi = |d| - r_A - r_B, n = d / |d|, p_A = c_A + r_A n, p_B = c_B - r_B n.
+    const SignedDistanceResultTpl<double> r =
+        internal::SpherePair<double>(X_WGa.p, sa->radius, X_WGb.p, sb->radius, Vector3d::UnitZ());
+    const Eigen::Matrix<double, 3, 6> Jc = PointJacobian(X_WGb.p);
+    const double d2 = (X_WGb.p - X_WGa.p).squaredNorm();
+    if (!(d2 > internal::kMinSquaredNorm)) {
+      // Coincident centres: the fallback normal +z is fixed in the world, not carried by a
+      // common motion of both bodies, so A's columns are direct: phi = (c_B - c_A) . z - r,
+      // p_A = c_A + r_A z, p_B = c_B - r_B z.
+      const Eigen::Matrix<double, 3, 6> Jc_A = PointJacobian(X_WGa.p);
+      J->phi << -r.normal_W.transpose() * Jc_A, r.normal_W.transpose() * Jc;
+      J->n.setZero();
+      J->p_A << Jc_A, Eigen::Matrix<double, 3, 6>::Zero();
+      J->p_B << Eigen::Matrix<double, 3, 6>::Zero(), Jc;
+      return true;
+    }
+    const Vector3d& n = r.normal_W;
+    const Eigen::Matrix<double, 3, 6> Jn =
+        ((Matrix3d::Identity() - n * n.transpose()) / std::sqrt(d2)) * Jc;
+    J->phi.tail<6>() = n.transpose() * Jc;
+    J->n.rightCols<6>() = Jn;
+    J->p_A.rightCols<6>() = sa->radius * Jn;
+    J->p_B.rightCols<6>() = Jc - sb->radius * Jn;
+    CompleteWithInvariance(n, r.p_WA, r.p_WB, J);
+    return true;
+  }
+  if (sb != nullptr && std::holds_alternative<HalfSpace>(a)) {
+    // A the plane (normal m fixed), B the sphere (centre c moving): p = c - r m, h = m . (p -
+    // p_A); flipped: n = m, p_A = p - h m (on the plane), p_B = p.
+    SignedDistanceResultTpl<double> r;
+    if (!AnalyticSignedDistance<double>(a, X_WGa, b, X_WGb, &r)) return false;
+    const Vector3d m = X_WGa.R.col(2);
+    const Eigen::Matrix<double, 3, 6> Jc = PointJacobian(X_WGb.p);
+    J->phi.tail<6>() = m.transpose() * Jc;
+    J->n.rightCols<6>().setZero();
+    J->p_B.rightCols<6>() = Jc;
+    J->p_A.rightCols<6>() = Jc - m * J->phi.tail<6>();
+    CompleteWithInvariance(r.normal_W, r.p_WA, r.p_WB, J);
+    return true;
+  }
+  return false;
+}
+
 // FCL pairs: central differences of SignedDistance over B's twist, rotations taken about B's
 // geometry origin (then moved to the world origin).
 void FclGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const Shape& b,
@@ -285,7 +344,9 @@ ContactDerivativeStats AddContactDerivatives(const Model& model, const ContactEn
     const RigidTransform X_WGb = GeometryPose(model, rnea, gb);
     PairGeometryJacobian G;
     if (r.exact) {
-      AnalyticGeometryJacobian(ga.shape, X_WGa, gb.shape, X_WGb, &G);
+      if (!SphereGeometryJacobian(ga.shape, X_WGa, gb.shape, X_WGb, &G)) {
+        AnalyticGeometryJacobian(ga.shape, X_WGa, gb.shape, X_WGb, &G);
+      }
     } else {
       FclGeometryJacobian(ga.shape, X_WGa, gb.shape, X_WGb, &G);
       ++stats.num_fcl_pairs;

@@ -127,11 +127,13 @@ def test_closed_loop_written_in_python_achieves_the_spinner_task():
     # A fixed 2 ms delay (the real solve takes 0.3-0.4 ms; a plan acts at a 1 ms plant step) makes
     # the run the same on every machine: with the wall-clock delay, one slow re-plan on a busy
     # machine shifts a plan by a step and the chaotic loop goes elsewhere. The Python loop turns
-    # the spinner as far as the C++ one at the same latency (ClosedLoopMujoco.SpinnerKeepsSpinning
-    # prints it: 5.66 rad at 2 ms; at 1 ms both end near 2.9 rad since the KKT steps became exact
-    # to ~1e-12, 5.37 rad before: one run of this chaotic loop flips with round-off).
+    # the spinner about as far as the C++ one at the same latency (ClosedLoopMujoco.SpinnerKeepsSpinning
+    # prints it). One run of this chaotic loop flips with round-off: at 2 ms, 5.66 rad in both
+    # until session 14, then 3.27 (C++) and 3.28 rad (Python) after a round-off-level change of the
+    # sphere pairs' contact derivatives, while a 24-run spinner campaign went from 22 to 24
+    # successes. So the test asserts the task (3 rad), not one run's angle.
     result = module.run(latency=0.002, verbose=False)
-    assert result["angle_gained_rad"] > 5.0, result
+    assert result["angle_gained_rad"] > 3.0, result
     assert result["replans"] == 999 and result["rejected"] == 0 and result["late"] == 0
     assert result["task_success"], result
     with pytest.raises(ValueError, match="latency"):
