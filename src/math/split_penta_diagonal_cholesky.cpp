@@ -150,18 +150,31 @@ void SplitPentaDiagonalCholesky::Solve(X&& x) const {
   }
   const int s = split_, R = bottom_size_;
   const auto bottom = [&x, n, N](int r) { return x.middleRows((N - 1 - r) * n, n); };
-  // L y = b: the halves, the bottom's columns of the separator rows, then the separator.
-  for (int k = 0; k < s; ++k) ForwardSubstitutionStep(top_, k, 0, top);
-  for (int r = 0; r < R; ++r) ForwardSubstitutionStep(bottom_, r, 0, bottom);
+  // L y = b: the halves (independent: two pool items, the same arithmetic on one thread), the
+  // bottom's columns of the separator rows, then the separator.
+  ParallelFor(0, 2, std::min(num_threads_, 2), [&](int half, int) {
+    if (half == 0) {
+      for (int k = 0; k < s; ++k) ForwardSubstitutionStep(top_, k, 0, top);
+    } else {
+      for (int r = 0; r < R; ++r) ForwardSubstitutionStep(bottom_, r, 0, bottom);
+    }
+  });
   top(s).noalias() -= bottom_.L2[R + 1] * bottom(R - 1);
   top(s + 1).noalias() -= bottom_.L1[R] * bottom(R - 1);
   top(s + 1).noalias() -= bottom_.L2[R] * bottom(R - 2);
   ForwardSubstitutionStep(top_, s, 0, top);
   ForwardSubstitutionStep(top_, s + 1, 0, top);
-  // L^T x = y: the separator, then each half (the bottom reads the separator as its
-  // positions R and R+1, L1[R+1] unused).
-  for (int k = s + 1; k >= 0; --k) BackwardSubstitutionStep(top_, k, s + 2, top);
-  for (int r = R - 1; r >= 0; --r) BackwardSubstitutionStep(bottom_, r, R + 2, bottom);
+  // L^T x = y: the separator, then each half (two pool items again; the bottom reads the
+  // separator as its positions R and R+1, L1[R+1] unused).
+  BackwardSubstitutionStep(top_, s + 1, s + 2, top);
+  BackwardSubstitutionStep(top_, s, s + 2, top);
+  ParallelFor(0, 2, std::min(num_threads_, 2), [&](int half, int) {
+    if (half == 0) {
+      for (int k = s - 1; k >= 0; --k) BackwardSubstitutionStep(top_, k, s + 2, top);
+    } else {
+      for (int r = R - 1; r >= 0; --r) BackwardSubstitutionStep(bottom_, r, R + 2, bottom);
+    }
+  });
 }
 
 void SplitPentaDiagonalCholesky::SolveInPlace(Eigen::VectorXd* b) const { Solve(*b); }

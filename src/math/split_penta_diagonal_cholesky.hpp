@@ -41,7 +41,8 @@ class SplitPentaDiagonalCholesky {
   /// True when the factorization runs in two halves (false: the natural order).
   bool two_halves() const { return split_ < num_blocks_; }
 
-  /// Solves H x = b in place (b: N n) with the last successful factorization.
+  /// Solves H x = b in place (b: N n) with the last successful factorization; the halves of
+  /// both sweeps run as two pool items (bitwise the same result on any thread count).
   void SolveInPlace(Eigen::VectorXd* b) const;
 
  private:
