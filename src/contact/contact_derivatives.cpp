@@ -33,9 +33,15 @@ using Mat6x24 = Eigen::Matrix<double, 6, 24>;
 constexpr double kFclStep = 1e-4;
 
 // d(phi, n, p_WA, p_WB) / d(eps_A, eps_B), eps = (theta, rho) a world twist of each body.
+// invariant: only B's columns (the last 6) are filled, and A's follow from the invariance under a
+// common rigid motion eps of both bodies (phi does not change, n turns: dn = theta x n, and the
+// witnesses move: dp = theta x p + rho), which PairForceJacobian applies at the level of the
+// force; normal and p_C (the witnesses' midpoint) are the values it needs. Otherwise all 12.
 struct PairGeometryJacobian {
   Row12 phi;
   Mat3x12 n, p_A, p_B;
+  bool invariant{false};
+  Vector3d normal, p_C;
 };
 
 RigidTransform GeometryPose(const Model& model, const Data& rnea, const GeometryInstance& g) {
@@ -43,18 +49,12 @@ RigidTransform GeometryPose(const Model& model, const Data& rnea, const Geometry
   return rnea.X_WB_[m] * model.X_MB(g.body) * RigidTransform(g.X_BG.linear(), g.X_BG.translation());
 }
 
-// The columns of A follow from those of B: under a common rigid motion eps of both bodies phi
-// does not change, n turns (dn = theta x n) and the witnesses move (dp = theta x p + rho).
-void CompleteWithInvariance(const Vector3d& n, const Vector3d& p_A, const Vector3d& p_B,
-                            PairGeometryJacobian* J) {
-  J->phi.head<6>() = -J->phi.tail<6>();
-  J->n.leftCols<6>().setZero();
-  J->n.block<3, 3>(0, 0) = -Skew<double>(n);
-  J->n.leftCols<6>() -= J->n.rightCols<6>();
-  J->p_A.leftCols<6>() << -Skew<double>(p_A), Matrix3d::Identity();
-  J->p_A.leftCols<6>() -= J->p_A.rightCols<6>();
-  J->p_B.leftCols<6>() << -Skew<double>(p_B), Matrix3d::Identity();
-  J->p_B.leftCols<6>() -= J->p_B.rightCols<6>();
+// Marks J as invariant (B's columns filled) with the values at the pose.
+void SetInvariant(const Vector3d& n, const Vector3d& p_A, const Vector3d& p_B,
+                  PairGeometryJacobian* J) {
+  J->invariant = true;
+  J->normal = n;
+  J->p_C = 0.5 * (p_A + p_B);
 }
 
 // Exact, through the templated pair code on Dual6 (B perturbed by its twist).
@@ -81,7 +81,7 @@ void AnalyticGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const
     p_A(i) = r.p_WA(i).value();
     p_B(i) = r.p_WB(i).value();
   }
-  CompleteWithInvariance(n, p_A, p_B, J);
+  SetInvariant(n, p_A, p_B, J);
 }
 
 // Closed forms of the sphere pairs (sphere-sphere, and half-space-sphere: the engine puts a
@@ -114,6 +114,7 @@ bool SphereGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const S
       J->n.setZero();
       J->p_A << Jc_A, Eigen::Matrix<double, 3, 6>::Zero();
       J->p_B << Eigen::Matrix<double, 3, 6>::Zero(), Jc;
+      J->invariant = false;
       return true;
     }
     const Vector3d& n = r.normal_W;
@@ -123,7 +124,7 @@ bool SphereGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const S
     J->n.rightCols<6>() = Jn;
     J->p_A.rightCols<6>() = sa->radius * Jn;
     J->p_B.rightCols<6>() = Jc - sb->radius * Jn;
-    CompleteWithInvariance(n, r.p_WA, r.p_WB, J);
+    SetInvariant(n, r.p_WA, r.p_WB, J);
     return true;
   }
   if (sb != nullptr && std::holds_alternative<HalfSpace>(a)) {
@@ -137,7 +138,7 @@ bool SphereGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const S
     J->n.rightCols<6>().setZero();
     J->p_B.rightCols<6>() = Jc;
     J->p_A.rightCols<6>() = Jc - m * J->phi.tail<6>();
-    CompleteWithInvariance(r.normal_W, r.p_WA, r.p_WB, J);
+    SetInvariant(r.normal_W, r.p_WA, r.p_WB, J);
     return true;
   }
   return false;
@@ -181,7 +182,7 @@ void FclGeometryJacobian(const Shape& a, const RigidTransform& X_WGa, const Shap
     X.translation() = X_WGb.p;
     return X;
   }());
-  CompleteWithInvariance(r0.normal_W, r0.p_WA, r0.p_WB, J);
+  SetInvariant(r0.normal_W, r0.p_WA, r0.p_WB, J);
 }
 
 // d F / d(eps_A, eps_B, V_A, V_B) (6 x 24) for F = (p_C x f, f), the force on B at the world
@@ -204,22 +205,51 @@ void PairForceJacobian(const ContactResult& r, const PairGeometryJacobian& G,
   Matrix3d E = F.fn * Matrix3d::Identity() + b * v_c.transpose() - r.vn * F.dft_dvt;
   E.noalias() -= (F.dft_dvt * n) * v_c.transpose();
   const Matrix3d P = Skew<double>(p);
-  // Poses (12 columns).
-  const Mat3x12 Dp = 0.5 * (G.p_A + G.p_B);
+  const Matrix3d Fx = Skew<double>(F.f);
   const Matrix3d KW = K * Skew<double>(Vector3d(V_B.w - V_A.w));
-  Mat3x12 Df = a * G.phi;
-  Df.noalias() += E * G.n;
-  Df.noalias() += KW * Dp;
-  D->block<3, 12>(3, 0) = Df;
-  D->block<3, 12>(0, 0).noalias() = P * Df;
-  D->block<3, 12>(0, 0).noalias() -= Skew<double>(F.f) * Dp;
-  // Velocities (12 columns): df/dV_A = [K [p]x, -K], df/dV_B = -df/dV_A.
+  // Poses: B's 6 columns, df = a dphi + E dn + KW dp_C, dm = [p]x df - [f]x dp_C.
+  const Eigen::Matrix<double, 3, 6> Dp_B = 0.5 * (G.p_A.rightCols<6>() + G.p_B.rightCols<6>());
+  Eigen::Matrix<double, 3, 6> Df_B = a * G.phi.tail<6>();
+  Df_B.noalias() += E * G.n.rightCols<6>();
+  Df_B.noalias() += KW * Dp_B;
+  Eigen::Matrix<double, 3, 6> FDp_B;
+  FDp_B.noalias() = Fx * Dp_B;
+  D->block<3, 6>(3, 6) = Df_B;
+  D->block<3, 6>(0, 6).noalias() = P * Df_B;
+  D->block<3, 6>(0, 6) -= FDp_B;
+  if (G.invariant) {
+    // A's columns: G_A = G_rigid - G_B with dn_rigid = [-[n]x, 0] and dp_rigid = [-[p]x, I], so
+    // Df_A = -Df_B + [-E [n]x - KW [p]x, KW] and dm_A = [p]x Df_A + [f]x Dp_B - [f]x dp_rigid.
+    Eigen::Matrix<double, 3, 6> Df_A = -Df_B;
+    Df_A.leftCols<3>().noalias() -= E * Skew<double>(G.normal);
+    Df_A.leftCols<3>().noalias() -= KW * Skew<double>(G.p_C);
+    Df_A.rightCols<3>() += KW;
+    D->block<3, 6>(3, 0) = Df_A;
+    D->block<3, 6>(0, 0).noalias() = P * Df_A;
+    D->block<3, 6>(0, 0) += FDp_B;
+    D->block<3, 3>(0, 0).noalias() += Fx * Skew<double>(G.p_C);
+    D->block<3, 3>(0, 3) -= Fx;
+  } else {
+    const Eigen::Matrix<double, 3, 6> Dp_A = 0.5 * (G.p_A.leftCols<6>() + G.p_B.leftCols<6>());
+    Eigen::Matrix<double, 3, 6> Df_A = a * G.phi.head<6>();
+    Df_A.noalias() += E * G.n.leftCols<6>();
+    Df_A.noalias() += KW * Dp_A;
+    D->block<3, 6>(3, 0) = Df_A;
+    D->block<3, 6>(0, 0).noalias() = P * Df_A;
+    D->block<3, 6>(0, 0).noalias() -= Fx * Dp_A;
+  }
+  // Velocities (12 columns): df/dV_A = [K [p]x, -K], df/dV_B = -df/dV_A; dm = [p]x df.
   const Matrix3d KP = K * P;
+  const Matrix3d PK = P * K;
+  const Matrix3d PKP = PK * P;
   D->block<3, 3>(3, 12) = KP;
   D->block<3, 3>(3, 15) = -K;
   D->block<3, 3>(3, 18) = -KP;
   D->block<3, 3>(3, 21) = K;
-  D->block<3, 12>(0, 12).noalias() = P * D->block<3, 12>(3, 12);
+  D->block<3, 3>(0, 12) = PKP;
+  D->block<3, 3>(0, 15) = -PK;
+  D->block<3, 3>(0, 18) = -PKP;
+  D->block<3, 3>(0, 21) = PK;
 }
 
 // The velocity columns of the joints from the root to moving body m (none for the world).
