@@ -7,7 +7,7 @@
 #include <string>
 
 #include "idto/core/errors.hpp"
-#include "idto/geometry/analytic_distance.hpp"
+#include "idto/geometry/analytic_distance-inl.hpp"
 #include "idto/geometry/signed_distance.hpp"
 
 namespace idto {
@@ -409,9 +409,20 @@ bool ContactEngine::EvaluatePair(const Model& model, const Data& data, int i,
   // and no argument checks: the shapes were checked when the model was built, and a
   // non-finite pose gives a non-finite result, which the solver rejects as a step).
   SignedDistanceResultTpl<double> sd;
-  const RigidTransform X_WGa = X_WA * RigidTransform(ga.X_BG.linear(), ga.X_BG.translation());
-  const RigidTransform X_WGb = X_WB * RigidTransform(gb.X_BG.linear(), gb.X_BG.translation());
-  r->exact = AnalyticSignedDistance<double>(ga.shape, X_WGa, gb.shape, X_WGb, &sd);
+  const Sphere* sphere_a = std::get_if<Sphere>(&ga.shape);
+  const Sphere* sphere_b = std::get_if<Sphere>(&gb.shape);
+  if (sphere_a != nullptr && sphere_b != nullptr) {
+    // Two spheres need only their centres: the same arithmetic as the geometry poses' origins,
+    // without their rotations (many pairs per step on the bi-manual and Allegro scenes).
+    const Eigen::Vector3d t_a = ga.X_BG.translation(), t_b = gb.X_BG.translation();
+    sd = internal::SpherePair<double>(X_WA * t_a, sphere_a->radius, X_WB * t_b,
+                                      sphere_b->radius, Eigen::Vector3d::UnitZ());
+    r->exact = true;
+  } else {
+    const RigidTransform X_WGa = X_WA * RigidTransform(ga.X_BG.linear(), ga.X_BG.translation());
+    const RigidTransform X_WGb = X_WB * RigidTransform(gb.X_BG.linear(), gb.X_BG.translation());
+    r->exact = AnalyticSignedDistance<double>(ga.shape, X_WGa, gb.shape, X_WGb, &sd);
+  }
   if (!r->exact) {
     const SignedDistanceResult fcl = SignedDistance(ga.shape, data.X_WB(pair.body_a) * ga.X_BG,
                                                     gb.shape, data.X_WB(pair.body_b) * gb.X_BG);
