@@ -32,20 +32,22 @@ void PentaDiagonalMatrix::SetZero() {
 }
 
 void PentaDiagonalMatrix::Multiply(const Eigen::VectorXd& x, Eigen::VectorXd* y) const {
-  const int n = block_size_;
   if (y->size() != rows()) y->resize(rows());
-  y->setZero();
-  for (int k = 0; k < num_blocks_; ++k) {
+  MultiplyRows(x, 0, num_blocks_, y);
+}
+
+void PentaDiagonalMatrix::MultiplyRows(const Eigen::VectorXd& x, int begin, int end,
+                                       Eigen::VectorXd* y) const {
+  const int n = block_size_;
+  const int N = num_blocks_;
+  for (int k = begin; k < end; ++k) {
+    // y_k = C_k x_k + B_k x_{k-1} + A_k x_{k-2} + B_{k+1}^T x_{k+1} + A_{k+2}^T x_{k+2}.
     auto yk = y->segment(k * n, n);
-    yk.noalias() += C_[k] * x.segment(k * n, n);
-    if (k >= 1) {
-      yk.noalias() += B_[k] * x.segment((k - 1) * n, n);
-      y->segment((k - 1) * n, n).noalias() += B_[k].transpose() * x.segment(k * n, n);
-    }
-    if (k >= 2) {
-      yk.noalias() += A_[k] * x.segment((k - 2) * n, n);
-      y->segment((k - 2) * n, n).noalias() += A_[k].transpose() * x.segment(k * n, n);
-    }
+    yk.noalias() = C_[k] * x.segment(k * n, n);
+    if (k >= 1) yk.noalias() += B_[k] * x.segment((k - 1) * n, n);
+    if (k >= 2) yk.noalias() += A_[k] * x.segment((k - 2) * n, n);
+    if (k + 1 < N) yk.noalias() += B_[k + 1].transpose() * x.segment((k + 1) * n, n);
+    if (k + 2 < N) yk.noalias() += A_[k + 2].transpose() * x.segment((k + 2) * n, n);
   }
 }
 

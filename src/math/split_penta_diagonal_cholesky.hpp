@@ -33,15 +33,15 @@ class SplitPentaDiagonalCholesky {
   /// does not depend on it).
   void set_num_threads(int threads);
 
-  /// Factors H (sizes as constructed). False when a pivot is not numerically positive definite;
-  /// failed_block() then names its block row (when both halves fail, the top one's). No
-  /// allocation, nothing throws.
+  /// Factors H (sizes as constructed; another size throws InvalidArgument). False when a pivot
+  /// is not numerically positive definite; failed_block() then names its block row (when both
+  /// halves fail, the top one's) and the factor is partly overwritten. No allocation.
   bool compute(const PentaDiagonalMatrix& H);
   int failed_block() const { return failed_block_; }
   /// True when the factorization runs in two halves (false: the natural order).
   bool two_halves() const { return split_ < num_blocks_; }
 
-  /// Solves H x = b in place (b: N n) with the last successful factorization; the halves of
+  /// Solves H x = b in place (b: N n); requires the last compute() to have succeeded. The halves of
   /// both sweeps run as two pool items (bitwise the same result on any thread count).
   void SolveInPlace(Eigen::VectorXd* b) const;
 

@@ -149,7 +149,8 @@ class TrajectoryOptimizer::Impl {
       p_newton_ = -g_merit_;
       chol_.SolveInPlace(&p_newton_);
     }
-    internal::CalcCauchyPoint(H_, g_merit_, D_, &scratch_a_, &scratch_b_, &p_cauchy_);
+    internal::CalcCauchyPoint(H_, g_merit_, D_, options_.num_threads, &scratch_a_, &scratch_b_,
+                              &p_cauchy_);
     if (!AllFinite(p_newton_) || !AllFinite(p_cauchy_)) {
       return Fail(summary,
                   "the Newton or Cauchy step is not finite (non-finite derivatives); "
@@ -205,7 +206,7 @@ class TrajectoryOptimizer::Impl {
     s->step_type = internal::CalcDoglegStep(p_newton_, p_cauchy_, D_, trust_radius_, &scratch_a_,
                                             &scratch_b_, &p_, &s->scaled_step_norm);
     s->step_norm = p_.norm();
-    H_.Multiply(p_, &scratch_a_);
+    internal::MultiplyInHalves(H_, p_, options_.num_threads, &scratch_a_);
     const double predicted = -(g_merit_.dot(p_) + 0.5 * p_.dot(scratch_a_));
     const Clock::time_point tc = Clock::now();
     const std::uint64_t kc = Ticks();

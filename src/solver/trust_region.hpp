@@ -62,10 +62,15 @@ bool FactorizeWithShift(PentaDiagonalMatrix* H, SplitPentaDiagonalCholesky* chol
                         Eigen::VectorXd* diagonal, double* mu);
 
 // The Cauchy point of the scaled model: p_C = -(|D g|^2 / (D^2 g)^T H (D^2 g)) D^2 g (or -D^2 g
-// without positive curvature). Scratch d2g and Hd2g (N nq).
+// without positive curvature). Scratch d2g and Hd2g (N nq); H x by MultiplyInHalves.
 void CalcCauchyPoint(const PentaDiagonalMatrix& H, const Eigen::VectorXd& g,
-                     const Eigen::VectorXd& D, Eigen::VectorXd* d2g, Eigen::VectorXd* Hd2g,
-                     Eigen::VectorXd* p_cauchy);
+                     const Eigen::VectorXd& D, int num_threads, Eigen::VectorXd* d2g,
+                     Eigen::VectorXd* Hd2g, Eigen::VectorXd* p_cauchy);
+
+// y = H x with the block rows in two halves on up to two threads (from blocks of 8): the same
+// result as H.Multiply on any thread count.
+void MultiplyInHalves(const PentaDiagonalMatrix& H, const Eigen::VectorXd& x, int num_threads,
+                      Eigen::VectorXd* y);
 
 // The dogleg step in scaled coordinates (p = D p~) between the Cauchy and Newton points for
 // trust radius `radius`; *p receives it and *scaled_norm |D^-1 p|. Scratch w, u (N nq).

@@ -34,6 +34,10 @@ class PentaDiagonalMatrix {
   void SetZero();
   /// y = H x (x, y: N n). y is resized; no allocation when already sized.
   void Multiply(const Eigen::VectorXd& x, Eigen::VectorXd* y) const;
+  /// Block rows [begin, end) of y = H x (y already sized N n; other rows untouched). Each block
+  /// row is computed on its own, so disjoint ranges can run on different threads with the same
+  /// result as Multiply.
+  void MultiplyRows(const Eigen::VectorXd& x, int begin, int end, Eigen::VectorXd* y) const;
   /// The diagonal (N n).
   void Diagonal(Eigen::VectorXd* d) const;
   /// Replaces H by D H D for a diagonal D given by its entries d (N n).
