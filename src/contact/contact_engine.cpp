@@ -415,8 +415,8 @@ bool ContactEngine::EvaluatePair(const Model& model, const Data& data, int i,
     // Two spheres need only their centres: the same arithmetic as the geometry poses' origins,
     // without their rotations (many pairs per step on the bi-manual and Allegro scenes).
     const Eigen::Vector3d t_a = ga.X_BG.translation(), t_b = gb.X_BG.translation();
-    sd = internal::SpherePair<double>(X_WA * t_a, sphere_a->radius, X_WB * t_b,
-                                      sphere_b->radius, Eigen::Vector3d::UnitZ());
+    sd = internal::SpherePair<double>(X_WA * t_a, sphere_a->radius, X_WB * t_b, sphere_b->radius,
+                                      Eigen::Vector3d::UnitZ());
     r->exact = true;
   } else {
     const RigidTransform X_WGa = X_WA * RigidTransform(ga.X_BG.linear(), ga.X_BG.translation());
