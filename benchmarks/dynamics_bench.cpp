@@ -17,6 +17,9 @@
 //            mj_fullM (dense)
 //  - RNEAderivs: idto ComputeRneaDerivatives(q, v, a): tau, d tau/dq (nv x nq), d tau/dv and M
 //            in one pass (no MuJoCo counterpart; compare with RNEA of the same run)
+//  - RNEAderivsTangent: idto ComputeRneaDerivativesTangent(q, v, a): the same with d tau/dq in
+//            the tangent space only (nv x nv; what the solver uses, and what Pinocchio's
+//            computeRNEADerivatives computes)
 //  - RNEAderivsFD: the same outputs by forward differences of idto InverseDynamics (1 + nq + 2 nv
 //            calls, step sqrt(eps)), the method the analytic derivatives replace
 //  - Jacobians4: idto ForwardKinematics(q) + 4 x CalcPointJacobian | mj_kinematics +
@@ -191,6 +194,17 @@ void IdtoRneaDerivatives(benchmark::State& state, const std::string& name) {
   for (auto _ : state) {
     idto::ComputeRneaDerivatives(bm.model, bm.q, bm.v, bm.a, &data);
     benchmark::DoNotOptimize(data.dtau_dq.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+void IdtoRneaDerivativesTangent(benchmark::State& state, const std::string& name) {
+  const BenchModel& bm = GetBenchModel(name);
+  if (!bm.error.empty()) return state.SkipWithError(bm.error.c_str());
+  idto::Data data(bm.model);
+  for (auto _ : state) {
+    idto::ComputeRneaDerivativesTangent(bm.model, bm.q, bm.v, bm.a, nullptr, &data);
+    benchmark::DoNotOptimize(data.dtau_dq_tangent.data());
     benchmark::ClobberMemory();
   }
 }
@@ -388,6 +402,7 @@ bool RegisterDynamicsBenchmarks() {
       {"CRBA", IdtoCrba, MujocoCrba},
       {"Jacobians4", IdtoJacobians, MujocoJacobians},
       {"RNEAderivs", IdtoRneaDerivatives, nullptr},
+      {"RNEAderivsTangent", IdtoRneaDerivativesTangent, nullptr},
       {"RNEAderivsFD", IdtoRneaDerivativesFd, nullptr},
 #else
       {"FKpos", IdtoFkPositions, nullptr},
@@ -396,6 +411,7 @@ bool RegisterDynamicsBenchmarks() {
       {"CRBA", IdtoCrba, nullptr},
       {"Jacobians4", IdtoJacobians, nullptr},
       {"RNEAderivs", IdtoRneaDerivatives, nullptr},
+      {"RNEAderivsTangent", IdtoRneaDerivativesTangent, nullptr},
       {"RNEAderivsFD", IdtoRneaDerivativesFd, nullptr},
 #endif
   };

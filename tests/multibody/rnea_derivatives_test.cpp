@@ -159,6 +159,38 @@ TEST(RneaDerivatives, NonUnitQuaternionsInRawCoordinates) {
   }
 }
 
+// The tangent-space entry point (what the solver calls) is the full one without the raw
+// coordinates: the same tau, dtau_dq_tangent, dtau_dv and M bit for bit, and dtau_dq untouched.
+TEST(RneaDerivatives, TangentEntryPointMatchesFullOne) {
+  RandomTreeOptions o;
+  o.num_bodies = 9;
+  for (int seed : {5, 6, 7}) {
+    const Model model = RandomTreeModel(seed, o);
+    Random rng(seed);
+    Data full(model), tangent(model);
+    const Eigen::VectorXd q = RandomConfiguration(model, &rng);
+    const Eigen::VectorXd v = rng.Vector(model.nv());
+    const Eigen::VectorXd a = rng.Vector(model.nv());
+    const BodyForces F = rng.Matrix(6, model.num_bodies());
+    for (const BodyForces* f : {static_cast<const BodyForces*>(nullptr), &F}) {
+      ComputeRneaDerivatives(model, q, v, a, f, &full);
+      tangent.dtau_dq.setConstant(7.0);
+      ComputeRneaDerivativesTangent(model, q, v, a, f, &tangent);
+      EXPECT_EQ(tangent.tau, full.tau);
+      EXPECT_EQ(tangent.dtau_dq_tangent, full.dtau_dq_tangent);
+      EXPECT_EQ(tangent.dtau_dv, full.dtau_dv);
+      EXPECT_EQ(tangent.M, full.M);
+      EXPECT_TRUE((tangent.dtau_dq.array() == 7.0).all());
+    }
+  }
+  const Model model = RandomTreeModel(5, o);
+  Data data(model);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(model.nv());
+  EXPECT_THROW(ComputeRneaDerivativesTangent(model, Eigen::VectorXd::Zero(model.nq() + 1), v, v,
+                                             nullptr, &data),
+               InvalidArgument);
+}
+
 std::vector<std::pair<std::string, Model>> UrdfModels() {
   std::vector<std::pair<std::string, Model>> models;
   const std::string dir = std::string(IDTO_SOURCE_DIR) + "/models/";

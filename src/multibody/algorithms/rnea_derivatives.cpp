@@ -20,4 +20,11 @@ void ComputeRneaDerivatives(const Model& model, const Eigen::Ref<const Eigen::Ve
   ComputeRneaDerivatives<double>(model, q, v, a, nullptr, data);
 }
 
+void ComputeRneaDerivativesTangent(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                   const Eigen::Ref<const Eigen::VectorXd>& v,
+                                   const Eigen::Ref<const Eigen::VectorXd>& a,
+                                   const BodyForces* F_ext, Data* data) {
+  internal::ComputeRneaDerivativesTangent<double>(model, q, v, a, F_ext, data);
+}
+
 }  // namespace idto

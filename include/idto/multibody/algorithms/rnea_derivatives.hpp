@@ -46,6 +46,15 @@ void ComputeRneaDerivatives(const Model& model, const Eigen::Ref<const Eigen::Ve
                             const Eigen::Ref<const Eigen::VectorXd>& v,
                             const Eigen::Ref<const Eigen::VectorXd>& a, Data* data);
 
+/// As ComputeRneaDerivatives, with d tau / d q in the tangent space only: data->tau,
+/// data->dtau_dq_tangent (nv x nv), data->dtau_dv (nv x nv) and data->M (nv x nv);
+/// data->dtau_dq is not written. These are the outputs the solver's derivatives use (and the
+/// ones Pinocchio's computeRNEADerivatives computes). F_ext: 6 x num_bodies or null.
+void ComputeRneaDerivativesTangent(const Model& model, const Eigen::Ref<const Eigen::VectorXd>& q,
+                                   const Eigen::Ref<const Eigen::VectorXd>& v,
+                                   const Eigen::Ref<const Eigen::VectorXd>& a,
+                                   const BodyForces* F_ext, Data* data);
+
 /// Scalar-templated ComputeRneaDerivatives (defined in rnea_derivatives-inl.hpp).
 template <typename Scalar>
 void ComputeRneaDerivatives(const Model& model, const ConstVectorRef<Scalar>& q,
