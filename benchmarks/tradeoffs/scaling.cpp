@@ -169,9 +169,6 @@ std::string HorizonExample(const Context& context, const std::string& name,
   for (int n : horizons) {
     std::vector<std::pair<std::string, std::string>> edits{
         {horizon_text, "num_steps: " + std::to_string(n)}};
-    // hopper.yaml's mpc.problem gives its own horizon, which cannot stand beside the
-    // num_steps it would inherit; the controller's problem is not used here.
-    if (name == "hopper") edits.emplace_back("horizon: 1.0", "num_steps: 100");
     const ExampleConfig config = LoadEditedExample(context, name, edits);
     nu = static_cast<int>(config.problem.UnactuatedDofs(config.model).size());
     SolverOptions options = config.solver;

@@ -225,10 +225,17 @@ void ConfigLoader::ReadUnactuatedDofs(const MapReader& p, ProblemDefinition* pro
 }
 
 // The controller's problem: `problem` with the keys of `mpc.problem` replacing the open-loop
-// ones; `nominal` and `weights` are merged key by key (e.g. only a new q_end).
+// ones; `nominal` and `weights` are merged key by key (e.g. only a new q_end), and a horizon or
+// num_steps replaces both of the open loop's.
 void ConfigLoader::LoadMpcProblem(const YAML::Node& problem, const YAML::Node& overrides) {
   const MapReader check(reader_, overrides, "mpc.problem", kProblemKeys);
   YAML::Node merged = MergeMaps(problem, YAML::Node(YAML::NodeType::Map));
+  // horizon and num_steps are two spellings of one length: the controller's replaces the open
+  // loop's in either spelling (both in mpc.problem is still an error).
+  if (overrides["horizon"] || overrides["num_steps"]) {
+    merged.remove("horizon");
+    merged.remove("num_steps");
+  }
   for (auto it = overrides.begin(); it != overrides.end(); ++it) {
     const std::string key = it->first.Scalar();
     const bool merge = (key == "nominal" || key == "weights") && it->second.IsMap() &&

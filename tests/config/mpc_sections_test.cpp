@@ -56,6 +56,27 @@ TEST(ConfigTest, MpcProblemOverridesMergeIntoTheOpenLoopProblem) {
   EXPECT_DOUBLE_EQ(p.Qq(1), 0.2);
 }
 
+// horizon and num_steps spell one length: the controller's replaces the open loop's whichever
+// spelling each uses (the open loop giving num_steps and the controller a horizon once failed
+// with "given together with num_steps").
+TEST(ConfigTest, MpcProblemLengthReplacesTheOpenLoopsInEitherSpelling) {
+  const std::string with_steps = With("  horizon: 1.0\n", "  num_steps: 20\n");
+  const ExampleConfig a = LoadText(with_steps + "mpc:\n  problem: {horizon: 0.5}\n");
+  EXPECT_EQ(a.problem.num_steps, 20);
+  EXPECT_EQ(a.mpc_problem->num_steps, 10);
+  const ExampleConfig b = LoadText(kBase + "mpc:\n  problem: {num_steps: 7}\n");
+  EXPECT_EQ(b.problem.num_steps, 20);
+  EXPECT_EQ(b.mpc_problem->num_steps, 7);
+  // A new time step alone keeps the open loop's spelling: horizon 1.0 s at 0.025 s is 40 steps,
+  // num_steps 20 stays 20.
+  EXPECT_EQ(LoadText(kBase + "mpc:\n  problem: {time_step: 0.025}\n").mpc_problem->num_steps, 40);
+  EXPECT_EQ(LoadText(with_steps + "mpc:\n  problem: {time_step: 0.025}\n").mpc_problem->num_steps,
+            20);
+  EXPECT_THAT(Loading(kBase + "mpc:\n  problem: {horizon: 0.5, num_steps: 10}\n"),
+              ThrowsMessage<FileError>(AllOf(HasSubstr("mpc.problem.horizon"),
+                                             HasSubstr("given together with num_steps"))));
+}
+
 TEST(ConfigTest, NoMpcProblemWithoutTheKey) {
   EXPECT_FALSE(LoadText(kBase + "mpc: {control_rate: 50}\n").mpc_problem.has_value());
   EXPECT_FALSE(LoadText(kBase).mpc_problem.has_value());
