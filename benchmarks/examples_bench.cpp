@@ -8,7 +8,9 @@
 // Names: "examples/<name>/<penalty|lagrange>/<analytic|forward>/threads:<T>", and
 // "examples/<name>/lagrange_double_residual/analytic/threads:<T>": the KKT refinement's residual
 // in double only (solver.kkt_extended_threshold infinite), the peer of the default's adaptive
-// double-double step.
+// double-double step; "examples/<name>/penalty_portable_kernels/analytic/threads:<T>": the
+// penalty route with the dense block kernels' portable path (src/math/block_kernels.hpp), the
+// peer of the AVX2/FMA path that the default runs on CPUs that have it.
 
 #include <limits>
 #include <string>
@@ -18,11 +20,28 @@
 
 #include "idto/idto.hpp"
 #include "iteration_timing.hpp"
+#include "math/block_kernels.hpp"
 
 namespace {
 
+// Switches the AVX2/FMA block kernels off for one benchmark (benchmarks run one at a time).
+class PortableKernels {
+ public:
+  explicit PortableKernels(bool on) : on_(on), before_(idto::internal::UseAvx2Kernels()) {
+    if (on_) idto::internal::SetAvx2KernelsEnabledForTesting(false);
+  }
+  ~PortableKernels() {
+    if (on_) idto::internal::SetAvx2KernelsEnabledForTesting(before_);
+  }
+
+ private:
+  bool on_, before_;
+};
+
 void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool lagrange,
-                         idto::DerivativeMethod derivatives, bool double_residual) {
+                         idto::DerivativeMethod derivatives, bool double_residual,
+                         bool portable_kernels = false) {
+  const PortableKernels kernels(portable_kernels);
   const int threads = static_cast<int>(state.range(0));
   idto::ExampleConfig config;
   try {
@@ -76,6 +95,17 @@ void Register() {
             ->UseRealTime();
       }
     }
+    const std::string bench = "examples/" + name + "/penalty_portable_kernels/analytic";
+    benchmark::RegisterBenchmark(
+        bench.c_str(),
+        [name](benchmark::State& s) {
+          BM_ExampleIteration(s, name, false, idto::DerivativeMethod::kAnalytic, false, true);
+        })
+        ->ArgName("threads")
+        ->Arg(1)
+        ->Arg(2)
+        ->Unit(benchmark::kMillisecond)
+        ->UseRealTime();
   }
 }
 

@@ -7,6 +7,7 @@
 #include "idto/contact/inverse_dynamics_with_contact.hpp"
 #include "idto/core/errors.hpp"
 #include "idto/multibody/algorithms/discrete_velocity.hpp"
+#include "math/block_kernels.hpp"
 #include "problem/transcription_workspace.hpp"
 
 namespace idto {
@@ -354,13 +355,30 @@ void AddVelocityGram(const Model& model, const Eigen::MatrixXd& D1, const Eigen:
   }
 }
 
-// G = diag(sqrt(w)) X (nv x nq), the weighted rows of a torque partial: H's torque terms are
-// then G^T G (one symmetric rank update) and G1^T G2.
+// G^T = (diag(sqrt_w) X)^T (nq x nv), the transposed weighted rows of a torque partial X
+// (nv x nq): H's torque terms are then sums of G1^T G2 = (G1^T)(G2^T)^T, products of two matrices
+// with nq rows (AddProductNT).
 template <typename Derived>
-void ScaleRows(const Eigen::VectorXd& w, const Eigen::MatrixXd& X,
-               const Eigen::MatrixBase<Derived>& G_out) {
-  auto& G = const_cast<Eigen::MatrixBase<Derived>&>(G_out);
-  G.noalias() = w.cwiseSqrt().asDiagonal() * X;
+void ScaleRowsTransposed(const Eigen::VectorXd& sqrt_w, const Eigen::MatrixXd& X,
+                         const Eigen::MatrixBase<Derived>& Gt_out) {
+  auto& Gt = const_cast<Eigen::MatrixBase<Derived>&>(Gt_out);
+  Gt.noalias() = (sqrt_w.asDiagonal() * X).transpose();
+}
+
+// C (nq x nq) += A B^T for A, B with nq rows and `cols` columns: only the lower triangle with
+// lower_only.
+void AddProductNT(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, int cols, bool lower_only,
+                  Eigen::MatrixXd* C) {
+  const int n = static_cast<int>(C->rows());
+  if (internal::UseAvx2Kernels()) {
+    internal::avx2::AddProductNT(n, n, cols, 1.0, A.data(), static_cast<int>(A.outerStride()),
+                                 B.data(), static_cast<int>(B.outerStride()), lower_only, C->data(),
+                                 n);
+  } else if (lower_only) {
+    C->selfadjointView<Eigen::Lower>().rankUpdate(A.leftCols(cols));
+  } else {
+    C->noalias() += A.leftCols(cols) * B.leftCols(cols).transpose();
+  }
 }
 
 }  // namespace
@@ -376,17 +394,19 @@ void Transcription::CalcHessianRow(const TrajectoryState& s, const TrajectoryDer
   };
   const int r = k - 1;
   const int nv = model_.nv();
-  // S: the weighted torque partials w.r.t. q_k of the steps j = k-1, k, k+1 that exist,
-  // stacked (rows of j = k-1 first); S_prev: those of j = k-1, k w.r.t. q_{k-1}.
-  Eigen::MatrixXd& S = ws->stacked;
-  Eigen::MatrixXd& S_prev = ws->stacked_prev;
+  // S^T: the transposed weighted torque partials w.r.t. q_k of the steps j = k-1, k, k+1 that
+  // exist, side by side (j = k-1 first); S_prev^T: those of j = k-1, k w.r.t. q_{k-1}.
+  Eigen::MatrixXd& St = ws->stacked_t;
+  Eigen::MatrixXd& St_prev = ws->stacked_prev_t;
   const int j_first = std::max(k - 1, 0), j_last = std::min(k + 1, N_ - 1);
-  int rows = 0, rows_prev = 0;
-  for (int j = j_first; j <= j_last; ++j, rows += nv) {
-    const Eigen::VectorXd& w = w_tau(j);
-    ScaleRows(w, d.DtauDq(j, k), S.middleRows(rows, nv));
-    if (k >= 2 && j <= k) ScaleRows(w, d.DtauDq(j, k - 1), S_prev.middleRows(rows_prev, nv));
-    if (k >= 2 && j <= k) rows_prev += nv;
+  int cols = 0, cols_prev = 0;
+  for (int j = j_first; j <= j_last; ++j, cols += nv) {
+    ws->sqrt_w = w_tau(j).cwiseSqrt();
+    ScaleRowsTransposed(ws->sqrt_w, d.DtauDq(j, k), St.middleCols(cols, nv));
+    if (k >= 2 && j <= k) {
+      ScaleRowsTransposed(ws->sqrt_w, d.DtauDq(j, k - 1), St_prev.middleCols(cols_prev, nv));
+      cols_prev += nv;
+    }
   }
   Eigen::MatrixXd& C = H->C(r);
   C.setZero();
@@ -396,22 +416,25 @@ void Transcription::CalcHessianRow(const TrajectoryState& s, const TrajectoryDer
   if (k < N_) {
     AddVelocityGram(model_, d.dv_dqm[k + 1], w_v(k + 1, &ws->w_v_next), d.dv_dqm[k + 1], true, &C);
   }
-  C.selfadjointView<Eigen::Lower>().rankUpdate(S.topRows(rows).transpose());
+  AddProductNT(St, St, cols, true, &C);
   // Exact symmetry of the diagonal block: the upper triangle is the lower one.
   C.triangularView<Eigen::StrictlyUpper>() = C.transpose();
   if (k >= 2) {
-    // B = sum over j = k-1, k of (d tau_j/d q_k)^T W (d tau_j/d q_{k-1}): the first rows of S.
+    // B = sum over j = k-1, k of (d tau_j/d q_k)^T W (d tau_j/d q_{k-1}): the first columns of
+    // S^T.
     Eigen::MatrixXd& B = H->B(r);
     B.setZero();
     AddVelocityGram(model_, d.dv_dq[k], wv_k, d.dv_dqm[k], false, &B);
-    B.noalias() += S.topRows(rows_prev).transpose() * S_prev.topRows(rows_prev);
+    AddProductNT(St, St_prev, cols_prev, false, &B);
   }
   if (k >= 3) {
     // A = (d tau_{k-1}/d q_k)^T W (d tau_{k-1}/d q_{k-2}).
     Eigen::MatrixXd& A = H->A(r);
-    Eigen::MatrixXd& G = ws->scratch_vq;
-    ScaleRows(w_tau(k - 1), d.DtauDq(k - 1, k - 2), G);
-    A.noalias() = S.topRows(nv).transpose() * G;
+    Eigen::MatrixXd& Gt = ws->scratch_qv;
+    ws->sqrt_w = w_tau(k - 1).cwiseSqrt();
+    ScaleRowsTransposed(ws->sqrt_w, d.DtauDq(k - 1, k - 2), Gt);
+    A.setZero();
+    AddProductNT(St, Gt, nv, false, &A);
   }
 }
 

@@ -27,8 +27,10 @@ struct TranscriptionWorkspace {
         q(Eigen::VectorXd::Zero(model.nq())),
         scratch_v(Eigen::VectorXd::Zero(model.nv())),
         scratch_vq(Eigen::MatrixXd::Zero(model.nv(), model.nq())),
-        stacked(Eigen::MatrixXd::Zero(3 * model.nv(), model.nq())),
-        stacked_prev(Eigen::MatrixXd::Zero(2 * model.nv(), model.nq())),
+        stacked_t(Eigen::MatrixXd::Zero(model.nq(), 3 * model.nv())),
+        stacked_prev_t(Eigen::MatrixXd::Zero(model.nq(), 2 * model.nv())),
+        scratch_qv(Eigen::MatrixXd::Zero(model.nq(), model.nv())),
+        sqrt_w(Eigen::VectorXd::Zero(model.nv())),
         Mdt(Eigen::MatrixXd::Zero(model.nv(), model.nv())),
         B(Eigen::MatrixXd::Zero(model.nv(), model.nv())),
         w_q(Eigen::VectorXd::Zero(model.nq())),
@@ -48,9 +50,11 @@ struct TranscriptionWorkspace {
   // Assembly scratch (nested Eigen products would otherwise allocate temporaries): nv, nv x nq.
   Eigen::VectorXd scratch_v;
   Eigen::MatrixXd scratch_vq;
-  // Hessian rows: the weighted torque partials stacked over the steps that involve q_k
-  // (3 nv x nq) and q_{k-1} (2 nv x nq); Transcription::CalcHessianRow.
-  Eigen::MatrixXd stacked, stacked_prev;
+  // Hessian rows (Transcription::CalcHessianRow): the transposed weighted torque partials side
+  // by side over the steps that involve q_k (nq x 3 nv) and q_{k-1} (nq x 2 nv), one such block
+  // (nq x nv), and the square roots of a step's torque weights (nv).
+  Eigen::MatrixXd stacked_t, stacked_prev_t, scratch_qv;
+  Eigen::VectorXd sqrt_w;
   // Analytic derivatives: M / dt and d ID / d v + M / dt (nv x nv), and the contact part's
   // scratch.
   Eigen::MatrixXd Mdt, B;

@@ -12,6 +12,7 @@
 
 #include "idto/idto.hpp"
 #include "solver/trust_region.hpp"
+#include "support/kernel_paths.hpp"
 #include "support/random.hpp"
 #include "support/test_models.hpp"
 
@@ -101,8 +102,11 @@ TEST(Transcription, AgreesWithTheOptimizerAndTakesAnotherDerivativeMethod) {
 // The Gauss-Newton Hessian against its definition, formed densely: J^T W J with J the Jacobian
 // of the residuals (q_k, v_k and tau_j, stacked) from the derivative blocks, W their weights.
 // CalcHessianRow exploits the structure (block-diagonal velocity partials, stacked symmetric
-// rank updates); this oracle does not.
-TEST(Transcription, HessianIsTheDenseGaussNewtonProduct) {
+// rank updates); this oracle does not. On both paths of the block kernels.
+class TranscriptionKernels : public test::KernelPathTest {};
+IDTO_INSTANTIATE_KERNEL_PATHS(TranscriptionKernels);
+
+TEST_P(TranscriptionKernels, HessianIsTheDenseGaussNewtonProduct) {
   const Model model = test::BallAndFinger();
   const int N = 7, nq = model.nq(), nv = model.nv();
   ProblemDefinition p = BallAndFingerProblem(model, N);

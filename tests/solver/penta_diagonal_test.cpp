@@ -9,6 +9,7 @@
 #include "idto/math/penta_diagonal_matrix.hpp"
 #include "math/split_penta_diagonal_cholesky.hpp"
 #include "support/eigen_matchers.hpp"
+#include "support/kernel_paths.hpp"
 #include "support/random.hpp"
 
 namespace idto {
@@ -40,6 +41,12 @@ PentaDiagonalMatrix RandomSpd(int N, int n, double condition, test::Random* rng)
   return H;
 }
 
+// The factorizations run on both paths of the block kernels (support/kernel_paths.hpp).
+class PentaDiagonalCholeskyTest : public test::KernelPathTest {};
+IDTO_INSTANTIATE_KERNEL_PATHS(PentaDiagonalCholeskyTest);
+class SplitPentaDiagonalTest : public test::KernelPathTest {};
+IDTO_INSTANTIATE_KERNEL_PATHS(SplitPentaDiagonalTest);
+
 TEST(PentaDiagonal, MultiplyAndDenseAgree) {
   test::Random rng(1);
   const PentaDiagonalMatrix H = RandomSpd(7, 3, 1e3, &rng);
@@ -57,10 +64,11 @@ TEST(PentaDiagonal, MultiplyAndDenseAgree) {
   EXPECT_EQ(D.block(9, 0, 3, 3).norm(), 0.0);
 }
 
-TEST(PentaDiagonal, CholeskySolvesLikeDenseUpToConditionNumber1e12) {
+TEST_P(PentaDiagonalCholeskyTest, CholeskySolvesLikeDenseUpToConditionNumber1e12) {
   test::Random rng(2);
   for (double condition : {1.0, 1e3, 1e6, 1e9, 1e12}) {
-    for (auto [N, n] : {std::pair{1, 4}, std::pair{2, 3}, std::pair{10, 6}, std::pair{40, 2}}) {
+    for (auto [N, n] :
+         {std::pair{1, 4}, std::pair{2, 3}, std::pair{10, 6}, std::pair{40, 2}, std::pair{5, 19}}) {
       SCOPED_TRACE(::testing::Message() << "cond=" << condition << " N=" << N << " n=" << n);
       const PentaDiagonalMatrix H = RandomSpd(N, n, condition, &rng);
       const Eigen::MatrixXd D = H.MakeDense();
@@ -85,7 +93,7 @@ TEST(PentaDiagonal, CholeskySolvesLikeDenseUpToConditionNumber1e12) {
   }
 }
 
-TEST(PentaDiagonal, ForwardSolveGivesTheEnergyNormAndSkipsLeadingZeroBlocks) {
+TEST_P(PentaDiagonalCholeskyTest, ForwardSolveGivesTheEnergyNormAndSkipsLeadingZeroBlocks) {
   test::Random rng(5);
   const int N = 12, n = 3;
   const PentaDiagonalMatrix H = RandomSpd(N, n, 1e4, &rng);
@@ -110,7 +118,7 @@ TEST(PentaDiagonal, ForwardSolveGivesTheEnergyNormAndSkipsLeadingZeroBlocks) {
                     Eigen::MatrixXd(B.transpose() * D.llt().solve(B)), 1e-9);
 }
 
-TEST(PentaDiagonal, IndefiniteMatricesReportTheFailedBlock) {
+TEST_P(PentaDiagonalCholeskyTest, IndefiniteMatricesReportTheFailedBlock) {
   test::Random rng(3);
   PentaDiagonalMatrix H = RandomSpd(5, 2, 10.0, &rng);
   H.C(3)(1, 1) = -1e3;
@@ -142,9 +150,9 @@ using internal::SplitPentaDiagonalCholesky;
 // The two-half factorization (the penalty route's Newton step) against dense Eigen, on sizes
 // below and above the split thresholds and every horizon from 1 to 21 (both parities of the
 // halves, the smallest split horizon 8 with halves of 3).
-TEST(SplitPentaDiagonal, SolvesLikeDenseOnEverySplit) {
+TEST_P(SplitPentaDiagonalTest, SolvesLikeDenseOnEverySplit) {
   test::Random rng(6);
-  for (int n : {2, SplitPentaDiagonalCholesky::kMinBlockSize, 11}) {
+  for (int n : {2, SplitPentaDiagonalCholesky::kMinBlockSize, 11, 19}) {
     for (int N = 1; N <= 21; ++N) {
       for (double condition : {1.0, 1e6, 1e12}) {
         SCOPED_TRACE(::testing::Message() << "cond=" << condition << " N=" << N << " n=" << n);
@@ -167,7 +175,7 @@ TEST(SplitPentaDiagonal, SolvesLikeDenseOnEverySplit) {
   }
 }
 
-TEST(SplitPentaDiagonal, OneAndTwoThreadsAreBitwiseEqual) {
+TEST_P(SplitPentaDiagonalTest, OneAndTwoThreadsAreBitwiseEqual) {
   test::Random rng(7);
   const int N = 20, n = 12;
   const PentaDiagonalMatrix H = RandomSpd(N, n, 1e8, &rng);
@@ -195,7 +203,7 @@ TEST(SplitPentaDiagonal, OneAndTwoThreadsAreBitwiseEqual) {
 // A pivot that is not positive definite in the top half, the bottom half or either separator
 // block is reported with its block row, on one and two threads; an SPD matrix factors again
 // afterwards.
-TEST(SplitPentaDiagonal, ReportsTheFailedBlockInEitherHalfAndTheSeparator) {
+TEST_P(SplitPentaDiagonalTest, ReportsTheFailedBlockInEitherHalfAndTheSeparator) {
   test::Random rng(8);
   const int N = 12, n = 8;  // s = 5: top 0..4, separator 5 and 6, bottom 11..7
   const PentaDiagonalMatrix good = RandomSpd(N, n, 10.0, &rng);

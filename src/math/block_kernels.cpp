@@ -1,0 +1,243 @@
+#include "math/block_kernels.hpp"
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define IDTO_X86_KERNELS 1
+#endif
+
+namespace idto::internal {
+
+namespace {
+
+bool CpuHasAvx2Fma() {
+#ifdef IDTO_X86_KERNELS
+  static const bool has = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return has;
+#else
+  return false;
+#endif
+}
+
+// IDTO_PORTABLE_KERNELS set and not "0": the baseline kernels everywhere, for results that are
+// the same bit for bit on CPUs with and without AVX2/FMA.
+bool PortableRequested() {
+  const char* value = std::getenv("IDTO_PORTABLE_KERNELS");
+  return value != nullptr && value[0] != '\0' && std::string(value) != "0";
+}
+
+bool Avx2Allowed() {
+#ifdef IDTO_X86_KERNELS
+  return CpuHasAvx2Fma() && !PortableRequested();
+#else
+  return false;
+#endif
+}
+
+std::atomic<bool>& Avx2Enabled() {
+  static std::atomic<bool> enabled{Avx2Allowed()};
+  return enabled;
+}
+
+}  // namespace
+
+bool Avx2KernelsAvailable() { return CpuHasAvx2Fma(); }
+
+bool UseAvx2Kernels() { return Avx2Enabled().load(std::memory_order_relaxed); }
+
+void SetAvx2KernelsEnabledForTesting(bool enabled) {
+  Avx2Enabled().store(enabled && CpuHasAvx2Fma(), std::memory_order_relaxed);
+}
+
+namespace avx2 {
+
+#ifdef IDTO_X86_KERNELS
+
+#define IDTO_TARGET_AVX2 __attribute__((target("avx2,fma")))
+
+namespace {
+
+// Lanes [0, count) of a 4-lane mask (count may be <= 0 or >= 4).
+IDTO_TARGET_AVX2 inline __m256i LaneMask(int count) {
+  return _mm256_cmpgt_epi64(_mm256_set1_epi64x(count), _mm256_set_epi64x(3, 2, 1, 0));
+}
+
+// One tile of C += alpha A B^T: rows [0, mr) (mr <= 4 RV) of A and C, columns [0, NC) of B^T
+// and C. The accumulators stay in registers over the whole inner dimension: per p, RV loads of
+// A's column, NC broadcasts of B's, RV NC fmas. kFull: mr == 4 RV (plain loads and stores).
+// keep_from_row >= 0 (a tile on C's diagonal, lower_only): entry (i, j) is written only where
+// i + keep_from_row >= j, i.e. on or below the diagonal of C.
+template <int RV, int NC, bool kFull>
+IDTO_TARGET_AVX2 void Tile(int mr, int k, double alpha, const double* A, long lda, const double* B,
+                           long ldb, int keep_from_row, double* C, long ldc) {
+  __m256d acc[RV][NC];
+  for (int r = 0; r < RV; ++r) {
+    for (int j = 0; j < NC; ++j) acc[r][j] = _mm256_setzero_pd();
+  }
+  __m256i mask[RV];
+  for (int r = 0; r < RV; ++r) mask[r] = LaneMask(mr - 4 * r);
+  for (int p = 0; p < k; ++p) {
+    const double* a = A + p * lda;
+    const double* b = B + p * ldb;
+    __m256d av[RV];
+    for (int r = 0; r < RV; ++r) {
+      av[r] = kFull ? _mm256_loadu_pd(a + 4 * r) : _mm256_maskload_pd(a + 4 * r, mask[r]);
+    }
+    for (int j = 0; j < NC; ++j) {
+      const __m256d bj = _mm256_broadcast_sd(b + j);
+      for (int r = 0; r < RV; ++r) acc[r][j] = _mm256_fmadd_pd(av[r], bj, acc[r][j]);
+    }
+  }
+  const __m256d alpha_v = _mm256_set1_pd(alpha);
+  if (keep_from_row >= 0) {
+    // A diagonal tile: through memory, entry by entry (at most one per column block).
+    alignas(32) double t[RV * 4];
+    for (int j = 0; j < NC; ++j) {
+      for (int r = 0; r < RV; ++r) _mm256_store_pd(t + 4 * r, acc[r][j]);
+      double* c = C + j * ldc;
+      for (int i = 0; i < mr; ++i) {
+        if (i + keep_from_row >= j) c[i] += alpha * t[i];
+      }
+    }
+    return;
+  }
+  for (int j = 0; j < NC; ++j) {
+    double* c = C + j * ldc;
+    for (int r = 0; r < RV; ++r) {
+      if (kFull) {
+        _mm256_storeu_pd(c + 4 * r,
+                         _mm256_fmadd_pd(alpha_v, acc[r][j], _mm256_loadu_pd(c + 4 * r)));
+      } else {
+        const __m256d old = _mm256_maskload_pd(c + 4 * r, mask[r]);
+        _mm256_maskstore_pd(c + 4 * r, mask[r], _mm256_fmadd_pd(alpha_v, acc[r][j], old));
+      }
+    }
+  }
+}
+
+template <int NC>
+IDTO_TARGET_AVX2 void TileRows(int mr, int k, double alpha, const double* A, long lda,
+                               const double* B, long ldb, int keep_from_row, double* C, long ldc) {
+  if (mr == 8) {
+    Tile<2, NC, true>(mr, k, alpha, A, lda, B, ldb, keep_from_row, C, ldc);
+  } else if (mr > 4) {
+    Tile<2, NC, false>(mr, k, alpha, A, lda, B, ldb, keep_from_row, C, ldc);
+  } else if (mr == 4) {
+    Tile<1, NC, true>(mr, k, alpha, A, lda, B, ldb, keep_from_row, C, ldc);
+  } else {
+    Tile<1, NC, false>(mr, k, alpha, A, lda, B, ldb, keep_from_row, C, ldc);
+  }
+}
+
+IDTO_TARGET_AVX2 void AddProductNTImpl(int m, int n, int k, double alpha, const double* A, long lda,
+                                       const double* B, long ldb, bool lower_only, double* C,
+                                       long ldc) {
+  for (int j0 = 0; j0 < n; j0 += 4) {
+    const int nc = n - j0 < 4 ? n - j0 : 4;
+    // With lower_only, the rows above j0 hold no entry on or below the diagonal of this block.
+    for (int i0 = lower_only ? j0 : 0; i0 < m; i0 += 8) {
+      const int mr = m - i0 < 8 ? m - i0 : 8;
+      const int keep = lower_only && i0 < j0 + nc ? i0 - j0 : -1;
+      const double* a = A + i0;
+      const double* b = B + j0;
+      double* c = C + i0 + j0 * ldc;
+      switch (nc) {
+        case 4:
+          TileRows<4>(mr, k, alpha, a, lda, b, ldb, keep, c, ldc);
+          break;
+        case 3:
+          TileRows<3>(mr, k, alpha, a, lda, b, ldb, keep, c, ldc);
+          break;
+        case 2:
+          TileRows<2>(mr, k, alpha, a, lda, b, ldb, keep, c, ldc);
+          break;
+        default:
+          TileRows<1>(mr, k, alpha, a, lda, b, ldb, keep, c, ldc);
+          break;
+      }
+    }
+  }
+}
+
+// Column j of X (m rows) -= column p of X times l, then the next such update: the diagonal
+// blocks' updates of the solve and the factorization (short, vectorized by the compiler).
+IDTO_TARGET_AVX2 inline void SubtractScaledColumn(int begin, int end, const double* x_p, double l,
+                                                  double* x_j) {
+  for (int i = begin; i < end; ++i) x_j[i] -= x_p[i] * l;
+}
+
+}  // namespace
+
+IDTO_TARGET_AVX2 void AddProductNT(int m, int n, int k, double alpha, const double* A, int lda,
+                                   const double* B, int ldb, bool lower_only, double* C, int ldc) {
+  if (m <= 0 || n <= 0 || k <= 0) return;
+  AddProductNTImpl(m, n, k, alpha, A, lda, B, ldb, lower_only, C, ldc);
+}
+
+IDTO_TARGET_AVX2 void SolveRightLowerTransposed(int m, int n, const double* L, int ldl, double* X,
+                                                int ldx) {
+  // Column j of X L^T = X_old gives x_j = (x_old_j - sum_{p<j} x_p L(j, p)) / L(j, j); four
+  // columns at a time, their updates from the solved columns as one tiled product.
+  for (int j0 = 0; j0 < n; j0 += 4) {
+    const int nc = n - j0 < 4 ? n - j0 : 4;
+    if (j0 > 0) {
+      AddProductNTImpl(m, nc, j0, -1.0, X, ldx, L + j0, ldl, false, X + static_cast<long>(j0) * ldx,
+                       ldx);
+    }
+    for (int j = j0; j < j0 + nc; ++j) {
+      double* x_j = X + static_cast<long>(j) * ldx;
+      for (int p = j0; p < j; ++p) {
+        SubtractScaledColumn(0, m, X + static_cast<long>(p) * ldx,
+                             L[j + static_cast<long>(p) * ldl], x_j);
+      }
+      const double d = L[j + static_cast<long>(j) * ldl];
+      for (int i = 0; i < m; ++i) x_j[i] /= d;
+    }
+  }
+}
+
+IDTO_TARGET_AVX2 bool CholeskyInPlace(int n, double* S, int lds) {
+  // Left-looking by panels of four columns: the panel's update from the factored columns as one
+  // tiled product (its strictly upper entries inside the panel are garbage, zeroed at the end),
+  // then the panel column by column.
+  for (int j0 = 0; j0 < n; j0 += 4) {
+    const int nc = n - j0 < 4 ? n - j0 : 4;
+    double* panel = S + j0 + static_cast<long>(j0) * lds;
+    if (j0 > 0) AddProductNTImpl(n - j0, nc, j0, -1.0, S + j0, lds, S + j0, lds, false, panel, lds);
+    for (int j = j0; j < j0 + nc; ++j) {
+      double* s_j = S + static_cast<long>(j) * lds;
+      for (int p = j0; p < j; ++p) {
+        SubtractScaledColumn(j, n, S + static_cast<long>(p) * lds,
+                             S[j + static_cast<long>(p) * lds], s_j);
+      }
+      const double d = s_j[j];
+      if (!(d > 0.0) || !std::isfinite(d)) return false;
+      const double l = std::sqrt(d);
+      s_j[j] = l;
+      for (int i = j + 1; i < n; ++i) s_j[i] /= l;
+    }
+  }
+  for (int j = 1; j < n; ++j) {
+    for (int i = 0; i < j; ++i) S[i + static_cast<long>(j) * lds] = 0.0;
+  }
+  return true;
+}
+
+#else  // !IDTO_X86_KERNELS: UseAvx2Kernels() is false, so none of these is ever called.
+
+void AddProductNT(int, int, int, double, const double*, int, const double*, int, bool, double*,
+                  int) {
+  std::abort();
+}
+void SolveRightLowerTransposed(int, int, const double*, int, double*, int) { std::abort(); }
+bool CholeskyInPlace(int, double*, int) { std::abort(); }
+
+#endif
+
+}  // namespace avx2
+
+}  // namespace idto::internal

@@ -1,0 +1,46 @@
+#pragma once
+
+// Dense kernels for the blocks of the Gauss-Newton Hessian and of its block Cholesky factor
+// (sizes nq, a few to a few dozen), private to src/. The library is compiled for baseline
+// x86-64 (SSE2, no FMA), where Eigen's products on such small dynamic-size blocks run below a
+// quarter of the FMA machine's peak. On a CPU with AVX2 and FMA these kernels run register-tiled
+// 4-lane FMA code compiled for that CPU (a function-level target, chosen once at run time), and
+// elsewhere the same Eigen expressions as before. Every entry is accumulated in a fixed order, so
+// the results do not depend on the thread count; they differ in rounding between the two paths
+// (FMA), never between two runs on one machine.
+//
+// All matrices are column-major with a leading dimension (ld) and are read and written in place.
+
+namespace idto::internal {
+
+/// True when the CPU has AVX2 and FMA (and the build targets x86-64 with GCC or Clang).
+bool Avx2KernelsAvailable();
+
+/// True when the AVX2/FMA kernels run (the CPU has both and they are not switched off).
+bool UseAvx2Kernels();
+
+/// Switches the AVX2/FMA kernels off (false) or back on where the CPU has them (true), for
+/// tests that compare both paths; the initial state is on where available, unless the
+/// environment variable IDTO_PORTABLE_KERNELS is set (and not "0"). Call it only while no solve
+/// runs.
+void SetAvx2KernelsEnabledForTesting(bool enabled);
+
+namespace avx2 {
+
+/// C (m x n) += alpha A B^T for A (m x k) and B (n x k). With lower_only (m == n), only the
+/// entries on and below C's diagonal are read and written. Aliasing: C must not overlap A or B.
+/// Requires UseAvx2Kernels().
+void AddProductNT(int m, int n, int k, double alpha, const double* A, int lda, const double* B,
+                  int ldb, bool lower_only, double* C, int ldc);
+
+/// X (m x n) <- X L^-T for L (n x n) lower triangular with a nonzero diagonal (only its lower
+/// triangle is read). Requires UseAvx2Kernels().
+void SolveRightLowerTransposed(int m, int n, const double* L, int ldl, double* X, int ldx);
+
+/// In-place lower Cholesky factor of S (n x n): reads the lower triangle, zeroes the strict upper
+/// one. False when a pivot is not positive and finite. Requires UseAvx2Kernels().
+bool CholeskyInPlace(int n, double* S, int lds);
+
+}  // namespace avx2
+
+}  // namespace idto::internal
