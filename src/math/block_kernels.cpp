@@ -66,6 +66,11 @@ IDTO_TARGET_AVX2 inline __m256i LaneMask(int count) {
   return _mm256_cmpgt_epi64(_mm256_set1_epi64x(count), _mm256_set_epi64x(3, 2, 1, 0));
 }
 
+// Rows of a tile: 12 rows by 4 columns take 12 of the 16 vector registers as accumulators
+// (measured faster than 8 x 4 on the quadruped's blocks of 19: fewer tiles, more independent
+// fmas in flight).
+constexpr int kTileRows = 12;
+
 // One tile of C += alpha A B^T: rows [0, mr) (mr <= 4 RV) of A and C, columns [0, NC) of B^T
 // and C. The accumulators stay in registers over the whole inner dimension: per p, RV loads of
 // A's column, NC broadcasts of B's, RV NC fmas. kFull: mr == 4 RV (plain loads and stores).
@@ -75,20 +80,26 @@ template <int RV, int NC, bool kFull>
 IDTO_TARGET_AVX2 void Tile(int mr, int k, double alpha, const double* A, long lda, const double* B,
                            long ldb, int keep_from_row, double* C, long ldc) {
   __m256d acc[RV][NC];
+#pragma GCC unroll 4
   for (int r = 0; r < RV; ++r) {
+#pragma GCC unroll 4
     for (int j = 0; j < NC; ++j) acc[r][j] = _mm256_setzero_pd();
   }
   __m256i mask[RV];
+#pragma GCC unroll 4
   for (int r = 0; r < RV; ++r) mask[r] = LaneMask(mr - 4 * r);
   for (int p = 0; p < k; ++p) {
     const double* a = A + p * lda;
     const double* b = B + p * ldb;
     __m256d av[RV];
+#pragma GCC unroll 4
     for (int r = 0; r < RV; ++r) {
       av[r] = kFull ? _mm256_loadu_pd(a + 4 * r) : _mm256_maskload_pd(a + 4 * r, mask[r]);
     }
+#pragma GCC unroll 4
     for (int j = 0; j < NC; ++j) {
       const __m256d bj = _mm256_broadcast_sd(b + j);
+#pragma GCC unroll 4
       for (int r = 0; r < RV; ++r) acc[r][j] = _mm256_fmadd_pd(av[r], bj, acc[r][j]);
     }
   }
@@ -96,7 +107,9 @@ IDTO_TARGET_AVX2 void Tile(int mr, int k, double alpha, const double* A, long ld
   if (keep_from_row >= 0) {
     // A diagonal tile: through memory, entry by entry (at most one per column block).
     alignas(32) double t[RV * 4];
+#pragma GCC unroll 4
     for (int j = 0; j < NC; ++j) {
+#pragma GCC unroll 4
       for (int r = 0; r < RV; ++r) _mm256_store_pd(t + 4 * r, acc[r][j]);
       double* c = C + j * ldc;
       for (int i = 0; i < mr; ++i) {
@@ -105,8 +118,10 @@ IDTO_TARGET_AVX2 void Tile(int mr, int k, double alpha, const double* A, long ld
     }
     return;
   }
+#pragma GCC unroll 4
   for (int j = 0; j < NC; ++j) {
     double* c = C + j * ldc;
+#pragma GCC unroll 4
     for (int r = 0; r < RV; ++r) {
       if (kFull) {
         _mm256_storeu_pd(c + 4 * r,
@@ -122,7 +137,11 @@ IDTO_TARGET_AVX2 void Tile(int mr, int k, double alpha, const double* A, long ld
 template <int NC>
 IDTO_TARGET_AVX2 void TileRows(int mr, int k, double alpha, const double* A, long lda,
                                const double* B, long ldb, int keep_from_row, double* C, long ldc) {
-  if (mr == 8) {
+  if (mr == 12) {
+    Tile<3, NC, true>(mr, k, alpha, A, lda, B, ldb, keep_from_row, C, ldc);
+  } else if (mr > 8) {
+    Tile<3, NC, false>(mr, k, alpha, A, lda, B, ldb, keep_from_row, C, ldc);
+  } else if (mr == 8) {
     Tile<2, NC, true>(mr, k, alpha, A, lda, B, ldb, keep_from_row, C, ldc);
   } else if (mr > 4) {
     Tile<2, NC, false>(mr, k, alpha, A, lda, B, ldb, keep_from_row, C, ldc);
@@ -139,8 +158,8 @@ IDTO_TARGET_AVX2 void AddProductNTImpl(int m, int n, int k, double alpha, const 
   for (int j0 = 0; j0 < n; j0 += 4) {
     const int nc = n - j0 < 4 ? n - j0 : 4;
     // With lower_only, the rows above j0 hold no entry on or below the diagonal of this block.
-    for (int i0 = lower_only ? j0 : 0; i0 < m; i0 += 8) {
-      const int mr = m - i0 < 8 ? m - i0 : 8;
+    for (int i0 = lower_only ? j0 : 0; i0 < m; i0 += kTileRows) {
+      const int mr = m - i0 < kTileRows ? m - i0 : kTileRows;
       const int keep = lower_only && i0 < j0 + nc ? i0 - j0 : -1;
       const double* a = A + i0;
       const double* b = B + j0;
@@ -194,8 +213,9 @@ IDTO_TARGET_AVX2 void SolveRightLowerTransposed(int m, int n, const double* L, i
         SubtractScaledColumn(0, m, X + static_cast<long>(p) * ldx,
                              L[j + static_cast<long>(p) * ldl], x_j);
       }
-      const double d = L[j + static_cast<long>(j) * ldl];
-      for (int i = 0; i < m; ++i) x_j[i] /= d;
+      // One division per column, not per entry (a vector division costs ~10 fmas).
+      const double inverse = 1.0 / L[j + static_cast<long>(j) * ldl];
+      for (int i = 0; i < m; ++i) x_j[i] *= inverse;
     }
   }
 }
@@ -218,7 +238,8 @@ IDTO_TARGET_AVX2 bool CholeskyInPlace(int n, double* S, int lds) {
       if (!(d > 0.0) || !std::isfinite(d)) return false;
       const double l = std::sqrt(d);
       s_j[j] = l;
-      for (int i = j + 1; i < n; ++i) s_j[i] /= l;
+      const double inverse = 1.0 / l;
+      for (int i = j + 1; i < n; ++i) s_j[i] *= inverse;
     }
   }
   for (int j = 1; j < n; ++j) {
