@@ -8,9 +8,9 @@
 // Names: "examples/<name>/<penalty|lagrange>/<analytic|forward>/threads:<T>", and
 // "examples/<name>/lagrange_double_residual/analytic/threads:<T>": the KKT refinement's residual
 // in double only (solver.kkt_extended_threshold infinite), the peer of the default's adaptive
-// double-double step; "examples/<name>/penalty_portable_kernels/analytic/threads:<T>": the
-// penalty route with the dense block kernels' portable path (src/math/block_kernels.hpp), the
-// peer of the AVX2/FMA path that the default runs on CPUs that have it.
+// double-double step; "examples/<name>/<penalty|lagrange>_portable_kernels/analytic/threads:<T>":
+// the dense block kernels' portable path (src/math/block_kernels.hpp), the peer of the AVX2/FMA
+// path that the default runs on CPUs that have it.
 
 #include <limits>
 #include <string>
@@ -95,17 +95,21 @@ void Register() {
             ->UseRealTime();
       }
     }
-    const std::string bench = "examples/" + name + "/penalty_portable_kernels/analytic";
-    benchmark::RegisterBenchmark(
-        bench.c_str(),
-        [name](benchmark::State& s) {
-          BM_ExampleIteration(s, name, false, idto::DerivativeMethod::kAnalytic, false, true);
-        })
-        ->ArgName("threads")
-        ->Arg(1)
-        ->Arg(2)
-        ->Unit(benchmark::kMillisecond)
-        ->UseRealTime();
+    for (const bool lagrange : {false, true}) {
+      if (name == "pendulum" && lagrange) continue;
+      const std::string bench = "examples/" + name + "/" + (lagrange ? "lagrange" : "penalty") +
+                                "_portable_kernels/analytic";
+      benchmark::RegisterBenchmark(
+          bench.c_str(),
+          [name, lagrange](benchmark::State& s) {
+            BM_ExampleIteration(s, name, lagrange, idto::DerivativeMethod::kAnalytic, false, true);
+          })
+          ->ArgName("threads")
+          ->Arg(1)
+          ->Arg(2)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+    }
   }
 }
 

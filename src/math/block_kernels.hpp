@@ -33,6 +33,16 @@ namespace avx2 {
 void AddProductNT(int m, int n, int k, double alpha, const double* A, int lda, const double* B,
                   int ldb, bool lower_only, double* C, int ldc);
 
+/// C (m x n) += alpha A B for A (m x k) and B (k x n, leading dimension ldb); lower_only as in
+/// AddProductNT. Requires UseAvx2Kernels().
+void AddProductNN(int m, int n, int k, double alpha, const double* A, int lda, const double* B,
+                  int ldb, bool lower_only, double* C, int ldc);
+
+/// X (size x cols) <- L^-1 X for L (size x size) lower triangular, given the reciprocals of its
+/// diagonal (only the strictly lower triangle of L is read). Requires UseAvx2Kernels().
+void LowerSolve(int size, const double* L, int ldl, const double* inverse_diagonal, double* X,
+                int ldx, int cols);
+
 /// X (m x n) <- X L^-T for L (n x n) lower triangular with a nonzero diagonal (only its lower
 /// triangle is read). Requires UseAvx2Kernels().
 void SolveRightLowerTransposed(int m, int n, const double* L, int ldl, double* X, int ldx);

@@ -4,14 +4,18 @@
 // private to src/. Below kSmallKernelLimit: column-oriented loops over contiguous columns that
 // skip zero coefficients (the examples' blocks are sparse: bodies that do not touch do not
 // couple) and multiply by stored reciprocals of the pivots; there Eigen's dynamic-size products
-// and triangular solves spend most of their time packing and blocking. From the limit up,
-// Eigen's blocked kernels win and are used (docs/benchmarks.md, "KKT kernels").
+// and triangular solves spend most of their time packing and blocking. From the limit up, the
+// register-tiled AVX2/FMA kernels of math/block_kernels.hpp where the CPU has them, else Eigen's
+// blocked kernels (docs/benchmarks.md, "KKT kernels" and session 17).
 // All matrices are column-major with a leading dimension (ld) and are read and written in place.
 
+#include <algorithm>
 #include <cmath>
 #include <type_traits>
 
 #include <Eigen/Core>
+
+#include "math/block_kernels.hpp"
 
 namespace idto::internal {
 
@@ -151,6 +155,10 @@ struct SubtractTransposeTimesKernel {
 /// two columns of X at a time in registers (small_dense_detail::LowerSolvePairsFixed).
 inline void LowerSolveInPlace(const double* L, int ldl, const double* inverse_diagonal, int size,
                               double* X, int ldx, int cols) {
+  if (size >= kSmallKernelLimit && UseAvx2Kernels()) {
+    avx2::LowerSolve(size, L, ldl, inverse_diagonal, X, ldx, cols);
+    return;
+  }
   if (size >= kSmallKernelLimit) {
     MatrixMap x(X, size, cols, Eigen::OuterStride<>(ldx));
     ConstMatrixMap(L, size, size, Eigen::OuterStride<>(ldl))
@@ -358,10 +366,16 @@ inline void SubtractSignedProduct(const double* T, int ldt, const double* X, int
         T, ldt, X, ldx, rows, inner, cols, n, C, ldc);
     return;
   }
+  const int rest = inner - n;
+  if (UseAvx2Kernels()) {
+    avx2::AddProductNN(rows, cols, n, -1.0, T, ldt, X, ldx, lower, C, ldc);
+    avx2::AddProductNN(rows, cols, rest, 1.0, T + static_cast<long>(n) * ldt, ldt, X + n, ldx,
+                       lower, C, ldc);
+    return;
+  }
   const ConstMatrixMap t(T, rows, inner, Eigen::OuterStride<>(ldt));
   const ConstMatrixMap x(X, inner, cols, Eigen::OuterStride<>(ldx));
   MatrixMap c(C, rows, cols, Eigen::OuterStride<>(ldc));
-  const int rest = inner - n;
   if (lower) {
     auto c_lower = c.triangularView<Eigen::Lower>();
     c_lower -= t.leftCols(n) * x.topRows(n);
@@ -409,6 +423,43 @@ inline int CholeskyColumnsLeftLooking(double tolerance, const double* diagonal, 
   return -1;
 }
 
+// CholeskyColumnsLeftLooking with the AVX2/FMA products: panels of four columns, each updated
+// from the panel's earlier columns by one tiled product (the entries above the diagonal inside a
+// panel are updated too; they belong to the upper triangle, which is not part of the result),
+// then factored column by column; then the trailing block's lower triangle.
+inline int CholeskyColumnsPanels(double tolerance, const double* diagonal, int size, int begin,
+                                 int end, double* M, int ld, double* inverse_diagonal,
+                                 double* relative_pivot) {
+  for (int k0 = begin; k0 < end; k0 += 4) {
+    const int kc = std::min(4, end - k0);
+    double* panel = M + k0 + static_cast<long>(k0) * ld;
+    const double* left = M + k0 + static_cast<long>(begin) * ld;
+    avx2::AddProductNT(size - k0, kc, k0 - begin, -1.0, left, ld, left, ld, false, panel, ld);
+    for (int k = k0; k < k0 + kc; ++k) {
+      double* __restrict mk = M + static_cast<long>(k) * ld;
+      for (int p = k0; p < k; ++p) {
+        const double* __restrict mp = M + static_cast<long>(p) * ld;
+        const double a = mp[k];
+        for (int i = k; i < size; ++i) mk[i] -= a * mp[i];
+      }
+      const double d = mk[k];
+      if (!AcceptPivot(d, tolerance, diagonal[k], relative_pivot)) return k;
+      const double lkk = std::sqrt(d);
+      const double inverse = 1.0 / lkk;
+      inverse_diagonal[k] = inverse;
+      mk[k] = lkk;
+      for (int i = k + 1; i < size; ++i) mk[i] *= inverse;
+    }
+  }
+  const int rest = size - end;
+  if (rest > 0 && end > begin) {
+    const double* panel = M + end + static_cast<long>(begin) * ld;
+    avx2::AddProductNT(rest, rest, end - begin, -1.0, panel, ld, panel, ld, true,
+                       M + end + static_cast<long>(end) * ld, ld);
+  }
+  return -1;
+}
+
 }  // namespace small_dense_detail
 
 /// Cholesky of columns [begin, end) of the lower triangle of the size × size M, in place (the
@@ -422,6 +473,10 @@ inline int CholeskyColumnsLeftLooking(double tolerance, const double* diagonal, 
 inline int CholeskyColumnsInPlace(double tolerance, const double* diagonal, int size, int begin,
                                   int end, double* M, int ld, double* inverse_diagonal,
                                   double* relative_pivot) {
+  if (size >= kSmallKernelLimit && UseAvx2Kernels()) {
+    return small_dense_detail::CholeskyColumnsPanels(tolerance, diagonal, size, begin, end, M, ld,
+                                                     inverse_diagonal, relative_pivot);
+  }
   if (size >= kSmallKernelLimit) {
     return small_dense_detail::CholeskyColumnsLeftLooking(tolerance, diagonal, size, begin, end, M,
                                                           ld, inverse_diagonal, relative_pivot);

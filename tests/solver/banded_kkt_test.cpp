@@ -20,6 +20,7 @@
 #include "solver/extended_residual.hpp"
 #include "support/allocation_counter.hpp"
 #include "support/eigen_matchers.hpp"
+#include "support/kernel_paths.hpp"
 #include "support/random.hpp"
 
 namespace idto {
@@ -148,50 +149,58 @@ TEST(BlockConstraintJacobian, ProductsAgreeWithDense) {
 }
 
 TEST(BandedKkt, MatchesDenseFormulaWellConditioned) {
-  test::Random rng(2);
-  for (auto [N, n, nu] : kSizes) {
-    SCOPED_TRACE(::testing::Message() << "N=" << N << " n=" << n << " nu=" << nu);
-    const KktProblem P = RandomProblem(N, n, nu, 10.0, 1.0, &rng);
-    const auto [ep, el] = BandedErrors(P, 0);
-    EXPECT_LT(ep, 1e-12);
-    EXPECT_LT(el, 1e-12);
+  for (test::KernelPath path : test::AvailableKernelPaths()) {
+    const test::ScopedKernelPath scoped(path);
+    SCOPED_TRACE(test::KernelPathName(path));
+    test::Random rng(2);
+    for (auto [N, n, nu] : kSizes) {
+      SCOPED_TRACE(::testing::Message() << "N=" << N << " n=" << n << " nu=" << nu);
+      const KktProblem P = RandomProblem(N, n, nu, 10.0, 1.0, &rng);
+      const auto [ep, el] = BandedErrors(P, 0);
+      EXPECT_LT(ep, 1e-12);
+      EXPECT_LT(el, 1e-12);
+    }
   }
 }
 
 // Entries of H, A, g and h spanning 1e-6..1e6 and H with condition number up to 1e6 before the
 // scaling. Prints the errors without and with refinement (docs/solver.md quotes them).
 TEST(BandedKkt, MatchesDenseFormulaIllConditioned) {
-  test::Random rng(3);
-  double worst[3][2] = {{0, 0}, {0, 0}, {0, 0}};
-  double worst_dense[2] = {0, 0};
-  for (double condition : {1e3, 1e6}) {
-    for (auto [N, n, nu] : kSizes) {
-      SCOPED_TRACE(::testing::Message()
-                   << "cond=" << condition << " N=" << N << " n=" << n << " nu=" << nu);
-      const KktProblem P = RandomProblem(N, n, nu, condition, 1e3, &rng);
-      Eigen::VectorXd p, lambda, p_ref, lambda_ref;
-      DenseDouble(P, &p, &lambda);
-      DenseOracle(P, &p_ref, &lambda_ref);
-      const double dense_p = RelativeError(p, p_ref);
-      const double dense_l = RelativeError(lambda, lambda_ref);
-      worst_dense[0] = std::max(worst_dense[0], dense_p);
-      worst_dense[1] = std::max(worst_dense[1], dense_l);
-      for (int steps = 0; steps <= 2; ++steps) {
-        const auto [ep, el] = BandedErrors(P, steps);
-        // Refined (the default): 1e-9. Unrefined: no worse than today's dense route in double.
-        EXPECT_LT(ep, steps > 0 ? 1e-9 : std::max(1e-9, 4 * dense_p)) << "refinement " << steps;
-        EXPECT_LT(el, steps > 0 ? 1e-9 : std::max(1e-9, 4 * dense_l)) << "refinement " << steps;
-        worst[steps][0] = std::max(worst[steps][0], ep);
-        worst[steps][1] = std::max(worst[steps][1], el);
+  for (test::KernelPath path : test::AvailableKernelPaths()) {
+    const test::ScopedKernelPath scoped(path);
+    SCOPED_TRACE(test::KernelPathName(path));
+    test::Random rng(3);
+    double worst[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+    double worst_dense[2] = {0, 0};
+    for (double condition : {1e3, 1e6}) {
+      for (auto [N, n, nu] : kSizes) {
+        SCOPED_TRACE(::testing::Message()
+                     << "cond=" << condition << " N=" << N << " n=" << n << " nu=" << nu);
+        const KktProblem P = RandomProblem(N, n, nu, condition, 1e3, &rng);
+        Eigen::VectorXd p, lambda, p_ref, lambda_ref;
+        DenseDouble(P, &p, &lambda);
+        DenseOracle(P, &p_ref, &lambda_ref);
+        const double dense_p = RelativeError(p, p_ref);
+        const double dense_l = RelativeError(lambda, lambda_ref);
+        worst_dense[0] = std::max(worst_dense[0], dense_p);
+        worst_dense[1] = std::max(worst_dense[1], dense_l);
+        for (int steps = 0; steps <= 2; ++steps) {
+          const auto [ep, el] = BandedErrors(P, steps);
+          // Refined (the default): 1e-9. Unrefined: no worse than today's dense route in double.
+          EXPECT_LT(ep, steps > 0 ? 1e-9 : std::max(1e-9, 4 * dense_p)) << "refinement " << steps;
+          EXPECT_LT(el, steps > 0 ? 1e-9 : std::max(1e-9, 4 * dense_l)) << "refinement " << steps;
+          worst[steps][0] = std::max(worst[steps][0], ep);
+          worst[steps][1] = std::max(worst[steps][1], el);
+        }
       }
     }
+    for (int steps = 0; steps <= 2; ++steps) {
+      std::cout << "ill-conditioned, refinement steps " << steps << ": worst relative error p "
+                << worst[steps][0] << ", lambda " << worst[steps][1] << "\n";
+    }
+    std::cout << "ill-conditioned, dense formula in double: worst relative error p "
+              << worst_dense[0] << ", lambda " << worst_dense[1] << "\n";
   }
-  for (int steps = 0; steps <= 2; ++steps) {
-    std::cout << "ill-conditioned, refinement steps " << steps << ": worst relative error p "
-              << worst[steps][0] << ", lambda " << worst[steps][1] << "\n";
-  }
-  std::cout << "ill-conditioned, dense formula in double: worst relative error p " << worst_dense[0]
-            << ", lambda " << worst_dense[1] << "\n";
 }
 
 // Beyond the acceptance range: H's condition number 1e9 before the scaling (entries spanning
@@ -340,20 +349,24 @@ TEST(BandedKkt, NoAllocationAfterConstruction) {
 // Two halves (N = 10, block size 16: steps 0..3 forward, 9..6 backward, then 4 and 5): 1 and 2
 // threads give bitwise the same factorization and step, call after call.
 TEST(BandedKkt, TwoHalvesAreBitwiseEqualOnOneAndTwoThreads) {
-  test::Random rng(11);
-  const KktProblem P = RandomProblem(10, 13, 3, 1e4, 10.0, &rng);
-  BandedKktSolver one(10, 13, 3), two(10, 13, 3);
-  two.set_num_threads(2);
-  ASSERT_TRUE(one.Factor(P.H, P.A).ok());
-  Eigen::VectorXd p1, l1, p2, l2;
-  one.Solve(P.g, P.h, &p1, &l1);
-  for (int i = 0; i < 50; ++i) {
-    ASSERT_TRUE(two.Factor(P.H, P.A).ok());
-    two.Solve(P.g, P.h, &p2, &l2);
-    ASSERT_EQ(0, std::memcmp(p1.data(), p2.data(), sizeof(double) * p1.size())) << "call " << i;
-    ASSERT_EQ(0, std::memcmp(l1.data(), l2.data(), sizeof(double) * l1.size())) << "call " << i;
+  for (test::KernelPath path : test::AvailableKernelPaths()) {
+    const test::ScopedKernelPath scoped(path);
+    SCOPED_TRACE(test::KernelPathName(path));
+    test::Random rng(11);
+    const KktProblem P = RandomProblem(10, 13, 3, 1e4, 10.0, &rng);
+    BandedKktSolver one(10, 13, 3), two(10, 13, 3);
+    two.set_num_threads(2);
+    ASSERT_TRUE(one.Factor(P.H, P.A).ok());
+    Eigen::VectorXd p1, l1, p2, l2;
+    one.Solve(P.g, P.h, &p1, &l1);
+    for (int i = 0; i < 50; ++i) {
+      ASSERT_TRUE(two.Factor(P.H, P.A).ok());
+      two.Solve(P.g, P.h, &p2, &l2);
+      ASSERT_EQ(0, std::memcmp(p1.data(), p2.data(), sizeof(double) * p1.size())) << "call " << i;
+      ASSERT_EQ(0, std::memcmp(l1.data(), l2.data(), sizeof(double) * l1.size())) << "call " << i;
+    }
+    EXPECT_THROW(two.set_num_threads(0), std::invalid_argument);
   }
-  EXPECT_THROW(two.set_num_threads(0), std::invalid_argument);
 }
 
 // A constraint row that no configuration influences, in each part of a two-half factorization:

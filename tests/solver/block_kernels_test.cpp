@@ -105,6 +105,44 @@ TEST_F(Avx2BlockKernels, RightTransposedSolveInvertsTheProduct) {
   }
 }
 
+// Both of LowerSolve's routes: through the transpose (size x cols up to 4096 entries) and the
+// blocked loop beyond; and the plain product A B.
+TEST_F(Avx2BlockKernels, LeftSolveAndProductNNMatchEigen) {
+  test::Random rng(15);
+  for (int size : {1, 3, 4, 7, 16, 29, 70}) {
+    for (int cols : {1, 5, 29, 70}) {
+      SCOPED_TRACE(::testing::Message() << "size=" << size << " cols=" << cols);
+      Eigen::MatrixXd L = rng.Matrix(size, size, -0.3, 0.3);
+      L.diagonal().array() += 2.0;
+      L.triangularView<Eigen::StrictlyUpper>().setConstant(
+          std::numeric_limits<double>::quiet_NaN());
+      const Eigen::VectorXd inverse = L.diagonal().cwiseInverse();
+      const Eigen::MatrixXd Ll = L.triangularView<Eigen::Lower>();
+      const Eigen::MatrixXd X0 = rng.Matrix(size, cols);
+      const int ldx = size + 2;
+      Eigen::MatrixXd Xp = Padded(X0, ldx, &rng);
+      avx2::LowerSolve(size, L.data(), size, inverse.data(), Xp.data(), ldx, cols);
+      EXPECT_LE((Ll * Xp.topRows(size) - X0).cwiseAbs().maxCoeff(), 1e-13);
+    }
+  }
+  for (bool lower : {false, true}) {
+    const int m = 23, k = 29;
+    const Eigen::MatrixXd A = rng.Matrix(m, k), B = rng.Matrix(k, m), C0 = rng.Matrix(m, m);
+    Eigen::MatrixXd C = C0;
+    avx2::AddProductNN(m, m, k, -1.5, A.data(), m, B.data(), k, lower, C.data(), m);
+    const Eigen::MatrixXd expected = C0 - 1.5 * A * B;
+    for (int j = 0; j < m; ++j) {
+      for (int i = 0; i < m; ++i) {
+        if (!lower || i >= j) {
+          EXPECT_NEAR(C(i, j), expected(i, j), 1e-13 * k);
+        } else {
+          EXPECT_EQ(C(i, j), C0(i, j));
+        }
+      }
+    }
+  }
+}
+
 TEST_F(Avx2BlockKernels, CholeskyMatchesEigenAndRejectsIndefiniteOrNonFinitePivots) {
   test::Random rng(14);
   for (int n : {1, 2, 3, 4, 5, 8, 11, 19, 23, 29, 33}) {

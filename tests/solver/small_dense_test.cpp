@@ -1,6 +1,7 @@
 // The banded KKT factorization's block kernels (src/math/small_dense.hpp) against Eigen's dense
-// operations, for every block size from 1 to 20 (both sides of kSmallKernelLimit), with leading
-// dimensions larger than the rows and with sparse operands (the zero-skipping paths); the
+// operations, for every block size from 1 to 20 (both sides of kSmallKernelLimit) and the
+// examples' larger ones (23, 25, 29), on both paths of the block kernels from the limit up, with
+// leading dimensions larger than the rows and with sparse operands (the zero-skipping paths); the
 // double-double residual update against exactly known results.
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 #include <Eigen/Dense>
 
 #include "math/small_dense.hpp"
+#include "support/kernel_paths.hpp"
 #include "support/random.hpp"
 
 namespace idto {
@@ -51,8 +53,20 @@ MatrixXd Padded(const MatrixXd& M) {
 
 class SmallDense : public ::testing::TestWithParam<int> {};
 
+// The bodies of the three size-parameterized tests, run once per kernel path.
+void LowerSolvesMatchEigenImpl(int m);
+void ProductsMatchEigenImpl(int m);
+void CholeskyColumnsFactorAndLeaveTheSchurComplementImpl(int m);
+
 TEST_P(SmallDense, LowerSolvesMatchEigen) {
-  const int m = GetParam();
+  for (test::KernelPath path : test::AvailableKernelPaths()) {
+    const test::ScopedKernelPath scoped(path);
+    SCOPED_TRACE(test::KernelPathName(path));
+    LowerSolvesMatchEigenImpl(GetParam());
+  }
+}
+
+void LowerSolvesMatchEigenImpl(int m) {
   test::Random rng(100 + m);
   const MatrixXd L = RandomLower(m, &rng);
   const VectorXd inverse = L.diagonal().cwiseInverse();
@@ -83,7 +97,14 @@ TEST_P(SmallDense, LowerSolvesMatchEigen) {
 }
 
 TEST_P(SmallDense, ProductsMatchEigen) {
-  const int m = GetParam();
+  for (test::KernelPath path : test::AvailableKernelPaths()) {
+    const test::ScopedKernelPath scoped(path);
+    SCOPED_TRACE(test::KernelPathName(path));
+    ProductsMatchEigenImpl(GetParam());
+  }
+}
+
+void ProductsMatchEigenImpl(int m) {
   test::Random rng(200 + m);
   for (int n : {0, m / 2, m}) {
     const MatrixXd T = SparseRandom(m, m, &rng), X = SparseRandom(m, m, &rng);
@@ -129,7 +150,14 @@ TEST_P(SmallDense, ProductsMatchEigen) {
 }
 
 TEST_P(SmallDense, CholeskyColumnsFactorAndLeaveTheSchurComplement) {
-  const int m = GetParam();
+  for (test::KernelPath path : test::AvailableKernelPaths()) {
+    const test::ScopedKernelPath scoped(path);
+    SCOPED_TRACE(test::KernelPathName(path));
+    CholeskyColumnsFactorAndLeaveTheSchurComplementImpl(GetParam());
+  }
+}
+
+void CholeskyColumnsFactorAndLeaveTheSchurComplementImpl(int m) {
   test::Random rng(300 + m);
   const MatrixXd R = SparseRandom(m, m, &rng);
   const MatrixXd S = R * R.transpose() + MatrixXd::Identity(m, m);
@@ -222,7 +250,9 @@ TEST(SmallDenseExact, TransposeWithLeadingDimensions) {
   EXPECT_TRUE((T.bottomRows(kPad).array() == -7.0).all());
 }
 
-INSTANTIATE_TEST_SUITE_P(Sizes, SmallDense, ::testing::Range(1, 21));
+INSTANTIATE_TEST_SUITE_P(Sizes, SmallDense,
+                         ::testing::Values(1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16,
+                                           17, 18, 19, 20, 23, 25, 29));
 
 }  // namespace
 }  // namespace idto

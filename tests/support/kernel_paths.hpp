@@ -6,6 +6,7 @@
 /// reason, on a CPU without AVX2 and FMA.
 
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -30,9 +31,34 @@ class KernelPathTest : public ::testing::TestWithParam<KernelPath> {
   bool was_enabled_{false};
 };
 
-inline std::string KernelPathName(const ::testing::TestParamInfo<KernelPath>& info) {
-  return info.param == KernelPath::kAvx2 ? "Avx2" : "Portable";
+inline std::string KernelPathName(KernelPath path) {
+  return path == KernelPath::kAvx2 ? "Avx2" : "Portable";
 }
+
+inline std::string KernelPathParamName(const ::testing::TestParamInfo<KernelPath>& info) {
+  return KernelPathName(info.param);
+}
+
+/// The paths this CPU can run: the portable one, and the AVX2 one where it has AVX2 and FMA.
+inline std::vector<KernelPath> AvailableKernelPaths() {
+  std::vector<KernelPath> paths = {KernelPath::kPortable};
+  if (internal::Avx2KernelsAvailable()) paths.push_back(KernelPath::kAvx2);
+  return paths;
+}
+
+/// Selects a path for its lifetime, then restores the previous one.
+class ScopedKernelPath {
+ public:
+  explicit ScopedKernelPath(KernelPath path) : was_enabled_(internal::UseAvx2Kernels()) {
+    internal::SetAvx2KernelsEnabledForTesting(path == KernelPath::kAvx2);
+  }
+  ~ScopedKernelPath() { internal::SetAvx2KernelsEnabledForTesting(was_enabled_); }
+  ScopedKernelPath(const ScopedKernelPath&) = delete;
+  ScopedKernelPath& operator=(const ScopedKernelPath&) = delete;
+
+ private:
+  bool was_enabled_;
+};
 
 }  // namespace idto::test
 
@@ -41,4 +67,4 @@ inline std::string KernelPathName(const ::testing::TestParamInfo<KernelPath>& in
   INSTANTIATE_TEST_SUITE_P(                                                                    \
       Kernels, suite,                                                                          \
       ::testing::Values(::idto::test::KernelPath::kPortable, ::idto::test::KernelPath::kAvx2), \
-      ::idto::test::KernelPathName)
+      ::idto::test::KernelPathParamName)
