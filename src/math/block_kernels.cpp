@@ -221,7 +221,7 @@ IDTO_TARGET_AVX2 void LowerSolve(int size, const double* L, int ldl, const doubl
   // vector operation for four of X's columns, instead of a chain of scalar updates per column
   // (measured: the latter took 15 % of an Allegro Lagrange iteration). The transpose lives on
   // the stack (no allocation); larger blocks take the blocked loop below.
-  constexpr int kMaxTransposed = 4096;
+  constexpr int kMaxTransposed = 1024;  // 8 KB: blocks up to 32 x 32, small beside any thread stack
   if (size * cols <= kMaxTransposed) {
     alignas(32) double T[kMaxTransposed];
     for (int j = 0; j < cols; ++j) {

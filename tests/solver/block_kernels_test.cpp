@@ -105,7 +105,7 @@ TEST_F(Avx2BlockKernels, RightTransposedSolveInvertsTheProduct) {
   }
 }
 
-// Both of LowerSolve's routes: through the transpose (size x cols up to 4096 entries) and the
+// Both of LowerSolve's routes: through the transpose (size x cols up to 1024 entries) and the
 // blocked loop beyond; and the plain product A B.
 TEST_F(Avx2BlockKernels, LeftSolveAndProductNNMatchEigen) {
   test::Random rng(15);
