@@ -188,11 +188,11 @@ TEST(ClosedLoopMujoco, QuadrupedWalksForward) {
 }
 
 // Hopper: >= 0.5 m forward in 5 s, >= 2 flights, upright. One run's outcome depends on the
-// latency and on round-off: when the block kernels gained their AVX2/FMA path, the 3 ms run (this
-// test's single run until then) flipped the hopper over (2.6 rad of pitch) while the portable
-// kernels' run succeeded, and the portable 9 ms run flipped instead; of the fixed latencies 1 to
-// 9 ms, 8 of 9 succeed on either path (campaigns: docs/mpc.md). So the test asserts a rate over
-// five fixed latencies: at least 3 of 5 (4 of 5 on either path when this was written).
+// latency and on round-off: with the first version of the AVX2/FMA block kernels, the 3 ms run
+// (this test's single run until then) flipped the hopper over (2.6 rad of pitch), and with the
+// portable kernels the 9 ms run flips; of the fixed latencies 1 to 9 ms, 8 of 9 succeeded on
+// either path (campaigns: docs/mpc.md). So the test asserts a rate over five fixed latencies: at
+// least 3 of 5 (when this was written: 5 of 5 with the final AVX2 kernels, 4 of 5 portable).
 TEST(ClosedLoopMujoco, HopperHopsForward) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
   int successes = 0;
