@@ -279,28 +279,47 @@ IDTO_TARGET_AVX2 void SolveRightLowerTransposed(int m, int n, const double* L, i
   }
 }
 
-IDTO_TARGET_AVX2 bool CholeskyInPlace(int n, double* S, int lds) {
-  // Left-looking by panels of four columns: the panel's update from the factored columns as one
-  // tiled product (its strictly upper entries inside the panel are garbage, zeroed at the end),
-  // then the panel column by column.
-  for (int j0 = 0; j0 < n; j0 += 4) {
-    const int nc = n - j0 < 4 ? n - j0 : 4;
-    double* panel = S + j0 + static_cast<long>(j0) * lds;
-    if (j0 > 0) AddProductNTImpl(n - j0, nc, j0, -1.0, S + j0, lds, S + j0, lds, false, panel, lds);
-    for (int j = j0; j < j0 + nc; ++j) {
-      double* s_j = S + static_cast<long>(j) * lds;
-      for (int p = j0; p < j; ++p) {
-        SubtractScaledColumn(j, n, S + static_cast<long>(p) * lds,
-                             S[j + static_cast<long>(p) * lds], s_j);
+IDTO_TARGET_AVX2 int CholeskyColumns(double tolerance, const double* diagonal, int size, int begin,
+                                     int end, double* M, int ld, double* inverse_diagonal,
+                                     double* relative_pivot) {
+  // Left-looking by panels of four columns: the panel's update from the panel's earlier columns
+  // as one tiled product (its entries above the diagonal inside the panel are updated too; they
+  // are not part of the result), then the panel column by column; then the trailing block.
+  for (int k0 = begin; k0 < end; k0 += 4) {
+    const int kc = end - k0 < 4 ? end - k0 : 4;
+    const double* left = M + k0 + static_cast<long>(begin) * ld;
+    AddProductNTImpl(size - k0, kc, k0 - begin, -1.0, left, ld, left, ld, false,
+                     M + k0 + static_cast<long>(k0) * ld, ld);
+    for (int k = k0; k < k0 + kc; ++k) {
+      double* m_k = M + static_cast<long>(k) * ld;
+      for (int p = k0; p < k; ++p) {
+        SubtractScaledColumn(k, size, M + static_cast<long>(p) * ld,
+                             M[k + static_cast<long>(p) * ld], m_k);
       }
-      const double d = s_j[j];
-      if (!(d > 0.0) || !std::isfinite(d)) return false;
+      const double d = m_k[k];
+      const double original = diagonal != nullptr ? diagonal[k] : 0.0;
+      if (!AcceptPivot(d, tolerance, original, relative_pivot)) return k;
       const double l = std::sqrt(d);
-      s_j[j] = l;
+      // One division per column, not per entry (a vector division costs ~10 fmas).
       const double inverse = 1.0 / l;
-      for (int i = j + 1; i < n; ++i) s_j[i] *= inverse;
+      if (inverse_diagonal != nullptr) inverse_diagonal[k] = inverse;
+      m_k[k] = l;
+      for (int i = k + 1; i < size; ++i) m_k[i] *= inverse;
     }
   }
+  const int rest = size - end;
+  if (rest > 0 && end > begin) {
+    const double* panel = M + end + static_cast<long>(begin) * ld;
+    AddProductNTImpl(rest, rest, end - begin, -1.0, panel, ld, panel, ld, true,
+                     M + end + static_cast<long>(end) * ld, ld);
+  }
+  return -1;
+}
+
+IDTO_TARGET_AVX2 bool CholeskyInPlace(int n, double* S, int lds) {
+  // Tolerance 0 without scales: any positive finite pivot is accepted.
+  double relative = 0.0;
+  if (CholeskyColumns(0.0, nullptr, n, 0, n, S, lds, nullptr, &relative) >= 0) return false;
   for (int j = 1; j < n; ++j) {
     for (int i = 0; i < j; ++i) S[i + static_cast<long>(j) * lds] = 0.0;
   }
@@ -321,6 +340,9 @@ void AddProductNT(int, int, int, double, const double*, int, const double*, int,
 }
 void SolveRightLowerTransposed(int, int, const double*, int, double*, int) { std::abort(); }
 bool CholeskyInPlace(int, double*, int) { std::abort(); }
+int CholeskyColumns(double, const double*, int, int, int, double*, int, double*, double*) {
+  std::abort();
+}
 
 #endif
 

@@ -11,7 +11,20 @@
 //
 // All matrices are column-major with a leading dimension (ld) and are read and written in place.
 
+#include <cmath>
+
+#include <Eigen/Core>
+
 namespace idto::internal {
+
+/// The pivot test of the Cholesky kernels: true when pivot d is acceptable, d > tolerance ·
+/// |original| and finite (tolerance 0: d must be positive; NaN and Inf always fail). Otherwise
+/// *relative_pivot = d / |original| (d when original is 0).
+inline bool AcceptPivot(double d, double tolerance, double original, double* relative_pivot) {
+  if (d > tolerance * std::abs(original) && std::isfinite(d)) return true;
+  *relative_pivot = original != 0.0 ? d / std::abs(original) : d;
+  return false;
+}
 
 /// True when the CPU has AVX2 and FMA (and the build targets x86-64 with GCC or Clang).
 bool Avx2KernelsAvailable();
@@ -51,6 +64,37 @@ void SolveRightLowerTransposed(int m, int n, const double* L, int ldl, double* X
 /// one. False when a pivot is not positive and finite. Requires UseAvx2Kernels().
 bool CholeskyInPlace(int n, double* S, int lds);
 
+/// Cholesky of columns [begin, end) of the lower triangle of the size x size M, in place, with
+/// the pivot test AcceptPivot(d, tolerance, diagonal[k]), as CholeskyColumnsInPlace of
+/// math/small_dense.hpp (which calls it from blocks of 16 up): the trailing block receives the
+/// Schur complement update (lower triangle); entries above the diagonal inside [begin, end)
+/// are left modified (not part of the result). Returns the failing column or -1;
+/// inverse_diagonal[k] = 1 / L(k, k). diagonal and inverse_diagonal may be null (scales 0, no
+/// reciprocals stored). Requires UseAvx2Kernels().
+int CholeskyColumns(double tolerance, const double* diagonal, int size, int begin, int end,
+                    double* M, int ld, double* inverse_diagonal, double* relative_pivot);
+
 }  // namespace avx2
+
+/// C += alpha A B^T for A and B with C's row count as rows and the same column count, through
+/// the AVX2/FMA kernel where it runs and Eigen's product elsewhere (with lower_only, C square:
+/// only C's lower triangle is updated; Eigen's symmetric rank update when A and B are the same
+/// matrix).
+inline void AddProductNT(double alpha, const Eigen::Ref<const Eigen::MatrixXd>& A,
+                         const Eigen::Ref<const Eigen::MatrixXd>& B, bool lower_only,
+                         Eigen::Ref<Eigen::MatrixXd> C) {
+  if (UseAvx2Kernels()) {
+    avx2::AddProductNT(
+        static_cast<int>(C.rows()), static_cast<int>(C.cols()), static_cast<int>(A.cols()), alpha,
+        A.data(), static_cast<int>(A.outerStride()), B.data(), static_cast<int>(B.outerStride()),
+        lower_only, C.data(), static_cast<int>(C.outerStride()));
+  } else if (lower_only && A.data() == B.data()) {
+    C.selfadjointView<Eigen::Lower>().rankUpdate(A, alpha);
+  } else if (lower_only) {
+    C.triangularView<Eigen::Lower>() += alpha * A * B.transpose();
+  } else {
+    C.noalias() += alpha * A * B.transpose();
+  }
+}
 
 }  // namespace idto::internal

@@ -186,18 +186,14 @@ bool CholeskyInPlace(Eigen::MatrixXd* S) {
 
 namespace {
 
-// Lower triangle of P -= L L^T. From blocks of 8 only the lower triangle is formed (rankUpdate,
-// half the flops); below, the full product is faster (measured: the spinner's blocks of 3 took
-// 1.6x as long with rankUpdate).
+// Lower triangle of P -= L L^T. Only the lower triangle is formed, except on the portable path
+// below blocks of 8, where the full product is faster (measured: the spinner's blocks of 3 took
+// 1.6x as long with Eigen's rankUpdate).
 void SubtractGram(const Eigen::MatrixXd& L, Eigen::MatrixXd* P) {
-  const int n = static_cast<int>(L.rows());
-  if (UseAvx2Kernels()) {
-    avx2::AddProductNT(n, n, static_cast<int>(L.cols()), -1.0, L.data(), n, L.data(), n, true,
-                       P->data(), n);
-  } else if (n >= 8) {
-    P->selfadjointView<Eigen::Lower>().rankUpdate(L, -1.0);
-  } else {
+  if (!UseAvx2Kernels() && L.rows() < 8) {
     P->noalias() -= L * L.transpose();
+  } else {
+    AddProductNT(-1.0, L, L, true, *P);
   }
 }
 
@@ -210,21 +206,11 @@ void SolveRightLowerTransposed(const Eigen::MatrixXd& L, Eigen::MatrixXd* X) {
   L.transpose().triangularView<Eigen::Upper>().solveInPlace<Eigen::OnTheRight>(*X);
 }
 
-// X -= A B^T (n x n blocks).
-void SubtractProductNT(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, Eigen::MatrixXd* X) {
-  if (UseAvx2Kernels()) {
-    const int n = static_cast<int>(A.rows());
-    avx2::AddProductNT(n, n, n, -1.0, A.data(), n, B.data(), n, false, X->data(), n);
-  } else {
-    X->noalias() -= A * B.transpose();
-  }
-}
-
 }  // namespace
 
 void EliminateSecondNeighbour(int i, PentaDiagonalFactorBlocks* f) {
   SolveRightLowerTransposed(f->L0[i - 2], &f->L2[i]);
-  SubtractProductNT(f->L2[i], f->L1[i - 1], &f->L1[i]);
+  AddProductNT(-1.0, f->L2[i], f->L1[i - 1], false, f->L1[i]);
   SubtractGram(f->L2[i], &f->L0[i]);
 }
 
@@ -238,7 +224,7 @@ bool FactorStep(int i, PentaDiagonalFactorBlocks* f) {
   // updated by L1 before L2 (the order of the natural-order factorization since issue 5).
   if (i >= 2) {
     SolveRightLowerTransposed(f->L0[i - 2], &f->L2[i]);
-    SubtractProductNT(f->L2[i], f->L1[i - 1], &f->L1[i]);
+    AddProductNT(-1.0, f->L2[i], f->L1[i - 1], false, f->L1[i]);
   }
   if (i >= 1) EliminateFirstNeighbour(i, f);
   if (i >= 2) SubtractGram(f->L2[i], &f->L0[i]);

@@ -9,7 +9,6 @@
 // blocked kernels (docs/benchmarks.md, "KKT kernels" and session 17).
 // All matrices are column-major with a leading dimension (ld) and are read and written in place.
 
-#include <algorithm>
 #include <cmath>
 #include <type_traits>
 
@@ -388,13 +387,6 @@ inline void SubtractSignedProduct(const double* T, int ldt, const double* X, int
 
 namespace small_dense_detail {
 
-// The pivot test of CholeskyColumnsInPlace; true when column k's pivot d is acceptable.
-inline bool AcceptPivot(double d, double tolerance, double original, double* relative_pivot) {
-  if (d > tolerance * std::abs(original) && std::isfinite(d)) return true;
-  *relative_pivot = original != 0.0 ? d / std::abs(original) : d;
-  return false;
-}
-
 // CholeskyColumnsInPlace from kSmallKernelLimit up: left-looking (each column by one Eigen
 // matrix-vector product with the columns before it), then the trailing block's update by one
 // Eigen rank-(end − begin) product.
@@ -423,43 +415,6 @@ inline int CholeskyColumnsLeftLooking(double tolerance, const double* diagonal, 
   return -1;
 }
 
-// CholeskyColumnsLeftLooking with the AVX2/FMA products: panels of four columns, each updated
-// from the panel's earlier columns by one tiled product (the entries above the diagonal inside a
-// panel are updated too; they belong to the upper triangle, which is not part of the result),
-// then factored column by column; then the trailing block's lower triangle.
-inline int CholeskyColumnsPanels(double tolerance, const double* diagonal, int size, int begin,
-                                 int end, double* M, int ld, double* inverse_diagonal,
-                                 double* relative_pivot) {
-  for (int k0 = begin; k0 < end; k0 += 4) {
-    const int kc = std::min(4, end - k0);
-    double* panel = M + k0 + static_cast<long>(k0) * ld;
-    const double* left = M + k0 + static_cast<long>(begin) * ld;
-    avx2::AddProductNT(size - k0, kc, k0 - begin, -1.0, left, ld, left, ld, false, panel, ld);
-    for (int k = k0; k < k0 + kc; ++k) {
-      double* __restrict mk = M + static_cast<long>(k) * ld;
-      for (int p = k0; p < k; ++p) {
-        const double* __restrict mp = M + static_cast<long>(p) * ld;
-        const double a = mp[k];
-        for (int i = k; i < size; ++i) mk[i] -= a * mp[i];
-      }
-      const double d = mk[k];
-      if (!AcceptPivot(d, tolerance, diagonal[k], relative_pivot)) return k;
-      const double lkk = std::sqrt(d);
-      const double inverse = 1.0 / lkk;
-      inverse_diagonal[k] = inverse;
-      mk[k] = lkk;
-      for (int i = k + 1; i < size; ++i) mk[i] *= inverse;
-    }
-  }
-  const int rest = size - end;
-  if (rest > 0 && end > begin) {
-    const double* panel = M + end + static_cast<long>(begin) * ld;
-    avx2::AddProductNT(rest, rest, end - begin, -1.0, panel, ld, panel, ld, true,
-                       M + end + static_cast<long>(end) * ld, ld);
-  }
-  return -1;
-}
-
 }  // namespace small_dense_detail
 
 /// Cholesky of columns [begin, end) of the lower triangle of the size × size M, in place (the
@@ -474,8 +429,8 @@ inline int CholeskyColumnsInPlace(double tolerance, const double* diagonal, int 
                                   int end, double* M, int ld, double* inverse_diagonal,
                                   double* relative_pivot) {
   if (size >= kSmallKernelLimit && UseAvx2Kernels()) {
-    return small_dense_detail::CholeskyColumnsPanels(tolerance, diagonal, size, begin, end, M, ld,
-                                                     inverse_diagonal, relative_pivot);
+    return avx2::CholeskyColumns(tolerance, diagonal, size, begin, end, M, ld, inverse_diagonal,
+                                 relative_pivot);
   }
   if (size >= kSmallKernelLimit) {
     return small_dense_detail::CholeskyColumnsLeftLooking(tolerance, diagonal, size, begin, end, M,
@@ -484,7 +439,7 @@ inline int CholeskyColumnsInPlace(double tolerance, const double* diagonal, int 
   for (int k = begin; k < end; ++k) {
     double* __restrict mk = M + static_cast<long>(k) * ld;
     const double d = mk[k];
-    if (!small_dense_detail::AcceptPivot(d, tolerance, diagonal[k], relative_pivot)) return k;
+    if (!AcceptPivot(d, tolerance, diagonal[k], relative_pivot)) return k;
     const double lkk = std::sqrt(d);
     mk[k] = lkk;
     const double inverse = 1.0 / lkk;

@@ -357,28 +357,12 @@ void AddVelocityGram(const Model& model, const Eigen::MatrixXd& D1, const Eigen:
 
 // G^T = (diag(sqrt_w) X)^T (nq x nv), the transposed weighted rows of a torque partial X
 // (nv x nq): H's torque terms are then sums of G1^T G2 = (G1^T)(G2^T)^T, products of two matrices
-// with nq rows (AddProductNT).
+// with nq rows (internal::AddProductNT).
 template <typename Derived>
 void ScaleRowsTransposed(const Eigen::VectorXd& sqrt_w, const Eigen::MatrixXd& X,
                          const Eigen::MatrixBase<Derived>& Gt_out) {
   auto& Gt = const_cast<Eigen::MatrixBase<Derived>&>(Gt_out);
   Gt.noalias() = (sqrt_w.asDiagonal() * X).transpose();
-}
-
-// C (nq x nq) += A B^T for A, B with nq rows and `cols` columns: only the lower triangle with
-// lower_only.
-void AddProductNT(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, int cols, bool lower_only,
-                  Eigen::MatrixXd* C) {
-  const int n = static_cast<int>(C->rows());
-  if (internal::UseAvx2Kernels()) {
-    internal::avx2::AddProductNT(n, n, cols, 1.0, A.data(), static_cast<int>(A.outerStride()),
-                                 B.data(), static_cast<int>(B.outerStride()), lower_only, C->data(),
-                                 n);
-  } else if (lower_only) {
-    C->selfadjointView<Eigen::Lower>().rankUpdate(A.leftCols(cols));
-  } else {
-    C->noalias() += A.leftCols(cols) * B.leftCols(cols).transpose();
-  }
 }
 
 }  // namespace
@@ -416,7 +400,7 @@ void Transcription::CalcHessianRow(const TrajectoryState& s, const TrajectoryDer
   if (k < N_) {
     AddVelocityGram(model_, d.dv_dqm[k + 1], w_v(k + 1, &ws->w_v_next), d.dv_dqm[k + 1], true, &C);
   }
-  AddProductNT(St, St, cols, true, &C);
+  internal::AddProductNT(1.0, St.leftCols(cols), St.leftCols(cols), true, C);
   // Exact symmetry of the diagonal block: the upper triangle is the lower one.
   C.triangularView<Eigen::StrictlyUpper>() = C.transpose();
   if (k >= 2) {
@@ -425,7 +409,7 @@ void Transcription::CalcHessianRow(const TrajectoryState& s, const TrajectoryDer
     Eigen::MatrixXd& B = H->B(r);
     B.setZero();
     AddVelocityGram(model_, d.dv_dq[k], wv_k, d.dv_dqm[k], false, &B);
-    AddProductNT(St, St_prev, cols_prev, false, &B);
+    internal::AddProductNT(1.0, St.leftCols(cols_prev), St_prev.leftCols(cols_prev), false, B);
   }
   if (k >= 3) {
     // A = (d tau_{k-1}/d q_k)^T W (d tau_{k-1}/d q_{k-2}).
@@ -434,7 +418,7 @@ void Transcription::CalcHessianRow(const TrajectoryState& s, const TrajectoryDer
     ws->sqrt_w = w_tau(k - 1).cwiseSqrt();
     ScaleRowsTransposed(ws->sqrt_w, d.DtauDq(k - 1, k - 2), Gt);
     A.setZero();
-    AddProductNT(St, Gt, nv, false, &A);
+    internal::AddProductNT(1.0, St.leftCols(nv), Gt, false, A);
   }
 }
 

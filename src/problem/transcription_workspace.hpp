@@ -26,7 +26,6 @@ struct TranscriptionWorkspace {
         tau_d(Eigen::VectorXd::Zero(model.nv())),
         q(Eigen::VectorXd::Zero(model.nq())),
         scratch_v(Eigen::VectorXd::Zero(model.nv())),
-        scratch_vq(Eigen::MatrixXd::Zero(model.nv(), model.nq())),
         stacked_t(Eigen::MatrixXd::Zero(model.nq(), 3 * model.nv())),
         stacked_prev_t(Eigen::MatrixXd::Zero(model.nq(), 2 * model.nv())),
         scratch_qv(Eigen::MatrixXd::Zero(model.nq(), model.nv())),
@@ -47,9 +46,8 @@ struct TranscriptionWorkspace {
   std::uint64_t contact_ticks{0};
   // Finite differences: perturbed q, v, a and their tau (nq / nv each).
   Eigen::VectorXd v, v_next, a, a_next, tau_a, tau_b, tau_c, tau_d, q;
-  // Assembly scratch (nested Eigen products would otherwise allocate temporaries): nv, nv x nq.
+  // Assembly scratch (nested Eigen products would otherwise allocate temporaries): nv.
   Eigen::VectorXd scratch_v;
-  Eigen::MatrixXd scratch_vq;
   // Hessian rows (Transcription::CalcHessianRow): the transposed weighted torque partials side
   // by side over the steps that involve q_k (nq x 3 nv) and q_{k-1} (nq x 2 nv), one such block
   // (nq x nv), and the square roots of a step's torque weights (nv).

@@ -2,7 +2,7 @@
 // the recorded results to 1e-9 relative, on each path of the block kernels
 // (src/math/block_kernels.hpp) against its own file: solver_baseline.txt for the portable path,
 // solver_baseline_avx2.txt for the AVX2/FMA kernels (their fused multiply-adds round differently,
-// and a 15-iteration solve carries that up to 4e-6 relative in the cost). History (the data files'
+// and a 15-iteration solve carries that up to 2e-5 relative in the cost). History (the data files'
 // headers have the numbers): the split into a transcription and a minimizer reproduced the
 // pre-redesign rows bit for bit; the Lagrange rows were re-recorded when the banded KKT solve
 // replaced the dense multipliers; all rows were re-recorded when the analytic derivatives became

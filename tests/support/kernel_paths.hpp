@@ -5,6 +5,7 @@
 /// baseline Eigen expressions and the AVX2/FMA kernels. The AVX2 instance is skipped, with the
 /// reason, on a CPU without AVX2 and FMA.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,21 +16,6 @@
 namespace idto::test {
 
 enum class KernelPath { kPortable, kAvx2 };
-
-class KernelPathTest : public ::testing::TestWithParam<KernelPath> {
- protected:
-  void SetUp() override {
-    was_enabled_ = internal::UseAvx2Kernels();
-    if (GetParam() == KernelPath::kAvx2 && !internal::Avx2KernelsAvailable()) {
-      GTEST_SKIP() << "this CPU has no AVX2 and FMA: only the portable kernels exist here";
-    }
-    internal::SetAvx2KernelsEnabledForTesting(GetParam() == KernelPath::kAvx2);
-  }
-  void TearDown() override { internal::SetAvx2KernelsEnabledForTesting(was_enabled_); }
-
- private:
-  bool was_enabled_{false};
-};
 
 inline std::string KernelPathName(KernelPath path) {
   return path == KernelPath::kAvx2 ? "Avx2" : "Portable";
@@ -58,6 +44,22 @@ class ScopedKernelPath {
 
  private:
   bool was_enabled_;
+};
+
+/// A test parameterized by the path: runs on it, and is skipped (with the reason) for the AVX2
+/// path on a CPU without AVX2 and FMA.
+class KernelPathTest : public ::testing::TestWithParam<KernelPath> {
+ protected:
+  void SetUp() override {
+    if (GetParam() == KernelPath::kAvx2 && !internal::Avx2KernelsAvailable()) {
+      GTEST_SKIP() << "this CPU has no AVX2 and FMA: only the portable kernels exist here";
+    }
+    path_.emplace(GetParam());
+  }
+  void TearDown() override { path_.reset(); }
+
+ private:
+  std::optional<ScopedKernelPath> path_;
 };
 
 }  // namespace idto::test
