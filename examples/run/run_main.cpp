@@ -3,7 +3,7 @@
 //
 //   idto-run CONFIG.yaml|NAME [--max-iterations N] [--threads N]
 //            [--constraints none|penalty|lagrange] [--derivatives analytic|forward|central]
-//            [--mpc] [--summary-json FILE] [--trajectory-csv FILE] [--stats-csv FILE]
+//            [--mpc [--real-time]] [--summary-json FILE] [--trajectory-csv FILE] [--stats-csv FILE]
 //            [--html FILE] [--quiet]
 //
 // NAME is an example's name: examples/NAME/NAME.yaml under $IDTO_SHARE_DIR, the source tree (for
@@ -75,6 +75,8 @@ const char kUsage[] =
     "  --derivatives analytic|forward|central\n"
     "                                     override solver.derivative_method\n"
     "  --mpc                              closed-loop MPC against a plant (the mpc: section)\n"
+    "  --real-time                        with --mpc: pace the loop to the wall clock\n"
+    "                                     (mpc.real_time), as a controller on a robot runs\n"
     "  --summary-json FILE                write the JSON summary to FILE\n"
     "  --trajectory-csv FILE              write t, q, v, tau per time step to FILE\n"
     "  --stats-csv FILE                   write the per-iteration statistics to FILE\n"
@@ -92,6 +94,7 @@ struct Arguments {
   std::optional<ConstraintMethod> constraints;
   std::optional<DerivativeMethod> derivatives;
   bool mpc{false};
+  bool real_time{false};
   bool quiet{false};
   bool help{false};
   std::string summary_json;
@@ -180,6 +183,9 @@ Arguments ParseArguments(int argc, char** argv) {
     } else if (arg == "--mpc") {
       no_value();
       args.mpc = true;
+    } else if (arg == "--real-time") {
+      no_value();
+      args.real_time = true;
     } else if (arg == "--quiet") {
       no_value();
       args.quiet = true;
@@ -633,7 +639,8 @@ int RunMpc(const Arguments& args, const char* argv0) {
   share_dirs.push_back(IDTO_INSTALL_SHARE_DIR);
   const std::string config_path = idto::FindExampleConfig(args.config, share_dirs);
   ExampleConfig config = idto::LoadExampleConfig(config_path, share_dirs);
-  const idto::MpcConfig mpc = idto::ParseMpcConfig(config);
+  idto::MpcConfig mpc = idto::ParseMpcConfig(config);
+  if (args.real_time) mpc.closed_loop.real_time = true;
   idto::SolverOptions options = config.mpc_solver.value_or(config.solver);
   if (args.threads) options.num_threads = *args.threads;
   if (args.constraints) options.constraint_method = *args.constraints;
@@ -649,7 +656,8 @@ int RunMpc(const Arguments& args, const char* argv0) {
             << config_path << ")\n"
             << "  plant: " << mpc.plant << ", control rate " << mpc.controller.control_rate
             << " Hz, " << mpc.controller.iterations_per_step << " iteration(s) per step, "
-            << mpc.closed_loop.duration << " s, threads " << options.num_threads << "\n";
+            << mpc.closed_loop.duration << " s" << (mpc.closed_loop.real_time ? " (real time)" : "")
+            << ", threads " << options.num_threads << "\n";
   std::unique_ptr<idto::sim::Plant> plant = mpc.plant == "mujoco"
                                                 ? idto::sim::MakeMujocoPlant(model, mpc.mujoco)
                                                 : idto::sim::MakeBuiltinPlant(model, mpc.builtin);

@@ -142,7 +142,10 @@ void BindClosedLoop(py::module_& m) {
       .def_readwrite("fixed_latency", &ClosedLoopOptions::fixed_latency)
       .def_readwrite("disturbances", &ClosedLoopOptions::disturbances)
       .def_readwrite("implicit_damping", &ClosedLoopOptions::implicit_damping)
-      .def_readwrite("log_every", &ClosedLoopOptions::log_every);
+      .def_readwrite("log_every", &ClosedLoopOptions::log_every)
+      .def_readwrite("latency_jitter", &ClosedLoopOptions::latency_jitter)
+      .def_readwrite("seed", &ClosedLoopOptions::seed)
+      .def_readwrite("real_time", &ClosedLoopOptions::real_time);
   py::class_<ClosedLoopLog>(m, "ClosedLoopLog", "What a closed-loop run recorded.")
       .def_property_readonly("t", [](const ClosedLoopLog& l) { return ToArray(l.t); })
       .def_property_readonly("q", [](const ClosedLoopLog& l) { return ToArray(l.q); })

@@ -28,6 +28,7 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "plant_time_step",
                                            "latency",
                                            "latency_jitter",
+                                           "real_time",
                                            "sensor_noise",
                                            "seed",
                                            "kp",
@@ -61,8 +62,8 @@ MpcConfig DefaultMpcConfig(const Model& model, const ContactOptions& scene_conta
   return m;
 }
 
-/// control_rate, iterations_per_step, duration, initial_iterations, plant, plant_time_step and
-/// the MuJoCo friction keys.
+/// control_rate, iterations_per_step, duration, initial_iterations, plant, plant_time_step,
+/// real_time and the MuJoCo friction keys.
 void ReadScalars(const MapReader& mpc, MpcConfig* m) {
   mpc::MpcOptions& c = m->controller;
   c.control_rate = mpc.Positive("control_rate", c.control_rate);
@@ -75,6 +76,7 @@ void ReadScalars(const MapReader& mpc, MpcConfig* m) {
   m->builtin.time_step = cl.plant_time_step;
   m->mujoco.time_step = cl.plant_time_step;
   cl.duration = mpc.Positive("duration", cl.duration);
+  cl.real_time = mpc.Bool("real_time", cl.real_time);
   if (cl.duration < cl.plant_time_step) {
     const bool given = mpc.Has("duration");
     mpc.reader().FailValue(

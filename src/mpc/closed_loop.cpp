@@ -9,6 +9,7 @@
 #include <cmath>
 #include <random>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include <Eigen/Geometry>
@@ -182,6 +183,7 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
   plant->SetExtraDamping(kd_implicit);
   Eigen::VectorXd u_plant = u;
 
+  const Clock::time_point run_start = Clock::now();
   for (long step = 0; step < steps; ++step) {
     const double t = step * dt;
     MeasureState(model, plant->q(), plant->v(), options.sensor_noise, &rng, &q_hat, &v_hat);
@@ -192,6 +194,10 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
       pending_at = -1.0;
     }
     if (step % steps_per_replan == 0 && step > 0) {
+      if (options.real_time) {
+        std::this_thread::sleep_until(run_start + std::chrono::duration_cast<Clock::duration>(
+                                                      std::chrono::duration<double>(t)));
+      }
       const Clock::time_point t0 = Clock::now();
       const SolverSummary s = controller->Replan(t, q_hat, v_hat);
       const double solve = std::chrono::duration<double>(Clock::now() - t0).count();

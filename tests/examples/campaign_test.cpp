@@ -7,6 +7,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <random>
@@ -245,6 +246,28 @@ TEST(ClosedLoopConditions, LatePlansAreDiscardedAndCounted) {
   }
 }
 
+TEST(ClosedLoopConditions, RealTimePacesTheLoopAndChangesNothingElse) {
+  mpc::ClosedLoopOptions cl;
+  cl.duration = 0.3;
+  cl.latency = mpc::LatencyModel::kFixed;
+  cl.fixed_latency = 1e-3;
+  cl.log_every = 1;
+  const mpc::ClosedLoopLog free_running = RunSpinner(cl);
+  cl.real_time = true;
+  const auto start = std::chrono::steady_clock::now();
+  const mpc::ClosedLoopLog paced = RunSpinner(cl);
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // The last re-plan (200 Hz) is due at 0.295 s after the loop's start.
+  EXPECT_GE(wall, 0.295);
+  ASSERT_EQ(paced.replan_time, free_running.replan_time);
+  ASSERT_EQ(paced.q.size(), free_running.q.size());
+  for (size_t k = 0; k < paced.q.size(); ++k) {
+    ASSERT_EQ(paced.q[k], free_running.q[k]) << k;
+    ASSERT_EQ(paced.u[k], free_running.u[k]) << k;
+  }
+}
+
 /// The spinner's file with `lines` as its `mpc:` section.
 ExampleConfig LoadSpinnerWithMpc(const std::string& lines) {
   const std::string dir = std::string(IDTO_SOURCE_DIR) + "/examples/spinner";
@@ -273,6 +296,10 @@ TEST(ClosedLoopConditions, MpcSectionReadsNoiseJitterAndSeed) {
               ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.sensor_noise.angle")));
   EXPECT_THAT([] { LoadSpinnerWithMpc("  seed: 1.5\n"); },
               ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.seed")));
+  EXPECT_FALSE(ParseMpcConfig(Load("spinner")).closed_loop.real_time);
+  EXPECT_TRUE(ParseMpcConfig(LoadSpinnerWithMpc("  real_time: true\n")).closed_loop.real_time);
+  EXPECT_THAT([] { LoadSpinnerWithMpc("  real_time: 2\n"); },
+              ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.real_time")));
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 import importlib.util
 import os
+import time
 
 import numpy as np
 import pytest
@@ -107,7 +108,11 @@ def test_run_closed_loop_from_cpp(spinner):
     options.disturbances = [d]
     options.implicit_damping, options.log_every = True, 10
     options.plant_time_step = 1e-3
+    assert options.real_time is False and options.latency_jitter == 0.0 and options.seed == 0
+    options.real_time, options.latency_jitter, options.seed = True, 0.0, 3
+    start = time.monotonic()
     log = idto.run_closed_loop(ex.model, options, ctl, plant)
+    assert time.monotonic() - start >= 0.195  # paced: the last re-plan is due at 0.195 s
     assert log.t.shape == (20,) and log.q.shape == (20, 3) and log.u.shape == (20, 3)
     assert log.v.shape == (20, 3) and log.contact.shape[0] == 20
     assert log.replan_time.shape == log.solve_time.shape and len(log.solve_status) == 39

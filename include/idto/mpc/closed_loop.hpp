@@ -70,6 +70,13 @@ struct ClosedLoopOptions {
   bool implicit_damping{true};
   /// Log every `log_every` plant steps (1: every step).
   int log_every{10};
+  /// Pace the loop to the wall clock, as a controller on a robot runs: the re-plan at simulated
+  /// time t starts no earlier than t after the run's start (the plant's steps in between run at
+  /// once, then the loop sleeps). Off (default): the loop runs as fast as it can. Between two
+  /// re-plans the controller's threads sleep, so the OS gives them the CPU ahead of a process
+  /// that computes continuously (docs/benchmarks.md, "Issue 19: iteration time beside a busy
+  /// competitor").
+  bool real_time{false};
 };
 
 /// What a closed-loop run recorded.
