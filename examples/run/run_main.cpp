@@ -204,6 +204,7 @@ Arguments ParseArguments(int argc, char** argv) {
     }
   }
   if (args.help) return args;
+  if (args.real_time && !args.mpc) throw UsageError{"--real-time needs --mpc"};
   if (positional.empty()) throw UsageError{"missing CONFIG.yaml or example NAME"};
   if (positional.size() > 1) throw UsageError{"unexpected argument " + positional[1]};
   args.config = positional[0];
