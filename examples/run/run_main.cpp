@@ -3,8 +3,8 @@
 //
 //   idto-run CONFIG.yaml|NAME [--max-iterations N] [--threads N]
 //            [--constraints none|penalty|lagrange] [--derivatives analytic|forward|central]
-//            [--mpc [--real-time]] [--summary-json FILE] [--trajectory-csv FILE] [--stats-csv FILE]
-//            [--html FILE] [--quiet]
+//            [--mpc [--real-time] [--keep-workers-awake]] [--summary-json FILE]
+//            [--trajectory-csv FILE] [--stats-csv FILE] [--html FILE] [--quiet]
 //
 // NAME is an example's name: examples/NAME/NAME.yaml under $IDTO_SHARE_DIR, the source tree (for
 // programs run from the build tree) or <bin>/../share/idto (the install tree).
@@ -77,6 +77,8 @@ const char kUsage[] =
     "  --mpc                              closed-loop MPC against a plant (the mpc: section)\n"
     "  --real-time                        with --mpc: pace the loop to the wall clock\n"
     "                                     (mpc.real_time), as a controller on a robot runs\n"
+    "  --keep-workers-awake               with --mpc: solver threads wait awake between\n"
+    "                                     re-plans (mpc.keep_workers_awake)\n"
     "  --summary-json FILE                write the JSON summary to FILE\n"
     "  --trajectory-csv FILE              write t, q, v, tau per time step to FILE\n"
     "  --stats-csv FILE                   write the per-iteration statistics to FILE\n"
@@ -95,6 +97,7 @@ struct Arguments {
   std::optional<DerivativeMethod> derivatives;
   bool mpc{false};
   bool real_time{false};
+  bool keep_workers_awake{false};
   bool quiet{false};
   bool help{false};
   std::string summary_json;
@@ -186,6 +189,9 @@ Arguments ParseArguments(int argc, char** argv) {
     } else if (arg == "--real-time") {
       no_value();
       args.real_time = true;
+    } else if (arg == "--keep-workers-awake") {
+      no_value();
+      args.keep_workers_awake = true;
     } else if (arg == "--quiet") {
       no_value();
       args.quiet = true;
@@ -205,6 +211,7 @@ Arguments ParseArguments(int argc, char** argv) {
   }
   if (args.help) return args;
   if (args.real_time && !args.mpc) throw UsageError{"--real-time needs --mpc"};
+  if (args.keep_workers_awake && !args.mpc) throw UsageError{"--keep-workers-awake needs --mpc"};
   if (positional.empty()) throw UsageError{"missing CONFIG.yaml or example NAME"};
   if (positional.size() > 1) throw UsageError{"unexpected argument " + positional[1]};
   args.config = positional[0];
@@ -634,6 +641,60 @@ int Run(const Arguments& args, const char* argv0) {
 
 // ---------------------------------------------------------------------------- MPC
 
+/// The JSON summary of a closed-loop run (idto-run --mpc --summary-json).
+void WriteMpcSummaryJson(const Arguments& args, const ExampleConfig& config,
+                         const std::string& config_path, const idto::MpcConfig& mpc,
+                         const SolverSummary& first, const idto::mpc::ClosedLoopLog& log,
+                         const Eigen::VectorXd& q_final, const idto::examples::TaskResult& task) {
+  JsonWriter json;
+  json.BeginObject();
+  WriteSolveFields(config, config_path, first, &json);
+  json.Key("q_final");
+  json.NumberArray(q_final);
+  json.Key("mpc");
+  json.BeginObject();
+  json.Key("plant");
+  json.String(mpc.plant);
+  json.Key("control_rate_hz");
+  json.Number(mpc.controller.control_rate);
+  json.Key("iterations_per_step");
+  json.Int(mpc.controller.iterations_per_step);
+  json.Key("duration_s");
+  json.Number(mpc.closed_loop.duration);
+  json.Key("num_replans");
+  json.Int(static_cast<long long>(log.solve_time.size()));
+  json.Key("rejected_plans");
+  json.Int(log.num_rejected_plans);
+  json.Key("mean_solve_time_s");
+  json.Number(log.mean_solve_time());
+  json.Key("p95_solve_time_s");
+  json.Number(log.percentile_solve_time(95));
+  json.Key("max_solve_time_s");
+  json.Number(log.max_solve_time());
+  json.Key("fraction_on_time");
+  json.Number(log.fraction_on_time());
+  json.Key("plant_failure");
+  json.String(log.failure);
+  json.Key("metrics");
+  json.BeginObject();
+  WriteMetrics(task, &json);
+  json.EndObject();
+  json.Key("task_success");
+  json.Bool(task.task_success);
+  json.EndObject();
+  json.Key("metrics");
+  json.BeginObject();
+  json.EndObject();
+  json.Key("task_success");
+  json.Bool(task.task_success);
+  json.Key("log");
+  json.BeginArray();
+  json.EndArray();
+  json.EndObject();
+  WriteFile(args.summary_json, json.str(), "JSON summary");
+  std::cout << "wrote " << args.summary_json << "\n";
+}
+
 int RunMpc(const Arguments& args, const char* argv0) {
   std::vector<std::string> share_dirs =
       idto::DefaultShareDirs(IDTO_SOURCE_SHARE_DIR, ExecutablePath(argv0));
@@ -642,6 +703,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
   ExampleConfig config = idto::LoadExampleConfig(config_path, share_dirs);
   idto::MpcConfig mpc = idto::ParseMpcConfig(config);
   if (args.real_time) mpc.closed_loop.real_time = true;
+  if (args.keep_workers_awake) mpc.closed_loop.keep_workers_awake = true;
   idto::SolverOptions options = config.mpc_solver.value_or(config.solver);
   if (args.threads) options.num_threads = *args.threads;
   if (args.constraints) options.constraint_method = *args.constraints;
@@ -658,7 +720,8 @@ int RunMpc(const Arguments& args, const char* argv0) {
             << "  plant: " << mpc.plant << ", control rate " << mpc.controller.control_rate
             << " Hz, " << mpc.controller.iterations_per_step << " iteration(s) per step, "
             << mpc.closed_loop.duration << " s" << (mpc.closed_loop.real_time ? " (real time)" : "")
-            << ", threads " << options.num_threads << "\n";
+            << (mpc.closed_loop.keep_workers_awake ? " (workers awake)" : "") << ", threads "
+            << options.num_threads << "\n";
   std::unique_ptr<idto::sim::Plant> plant = mpc.plant == "mujoco"
                                                 ? idto::sim::MakeMujocoPlant(model, mpc.mujoco)
                                                 : idto::sim::MakeBuiltinPlant(model, mpc.builtin);
@@ -685,53 +748,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
             << "  q_final: " << FormatVector(plant->q()) << "\n";
   PrintTask(task);
   if (!args.summary_json.empty()) {
-    JsonWriter json;
-    json.BeginObject();
-    WriteSolveFields(config, config_path, first, &json);
-    json.Key("q_final");
-    json.NumberArray(plant->q());
-    json.Key("mpc");
-    json.BeginObject();
-    json.Key("plant");
-    json.String(mpc.plant);
-    json.Key("control_rate_hz");
-    json.Number(mpc.controller.control_rate);
-    json.Key("iterations_per_step");
-    json.Int(mpc.controller.iterations_per_step);
-    json.Key("duration_s");
-    json.Number(mpc.closed_loop.duration);
-    json.Key("num_replans");
-    json.Int(static_cast<long long>(log.solve_time.size()));
-    json.Key("rejected_plans");
-    json.Int(log.num_rejected_plans);
-    json.Key("mean_solve_time_s");
-    json.Number(log.mean_solve_time());
-    json.Key("p95_solve_time_s");
-    json.Number(log.percentile_solve_time(95));
-    json.Key("max_solve_time_s");
-    json.Number(log.max_solve_time());
-    json.Key("fraction_on_time");
-    json.Number(log.fraction_on_time());
-    json.Key("plant_failure");
-    json.String(log.failure);
-    json.Key("metrics");
-    json.BeginObject();
-    WriteMetrics(task, &json);
-    json.EndObject();
-    json.Key("task_success");
-    json.Bool(task.task_success);
-    json.EndObject();
-    json.Key("metrics");
-    json.BeginObject();
-    json.EndObject();
-    json.Key("task_success");
-    json.Bool(task.task_success);
-    json.Key("log");
-    json.BeginArray();
-    json.EndArray();
-    json.EndObject();
-    WriteFile(args.summary_json, json.str(), "JSON summary");
-    std::cout << "wrote " << args.summary_json << "\n";
+    WriteMpcSummaryJson(args, config, config_path, mpc, first, log, plant->q(), task);
   }
   if (!args.trajectory_csv.empty()) {
     WriteFile(args.trajectory_csv, log.ToCsv(model), "closed-loop trajectory CSV");

@@ -145,7 +145,8 @@ void BindClosedLoop(py::module_& m) {
       .def_readwrite("log_every", &ClosedLoopOptions::log_every)
       .def_readwrite("latency_jitter", &ClosedLoopOptions::latency_jitter)
       .def_readwrite("seed", &ClosedLoopOptions::seed)
-      .def_readwrite("real_time", &ClosedLoopOptions::real_time);
+      .def_readwrite("real_time", &ClosedLoopOptions::real_time)
+      .def_readwrite("keep_workers_awake", &ClosedLoopOptions::keep_workers_awake);
   py::class_<ClosedLoopLog>(m, "ClosedLoopLog", "What a closed-loop run recorded.")
       .def_property_readonly("t", [](const ClosedLoopLog& l) { return ToArray(l.t); })
       .def_property_readonly("q", [](const ClosedLoopLog& l) { return ToArray(l.q); })

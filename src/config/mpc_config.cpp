@@ -29,6 +29,7 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "latency",
                                            "latency_jitter",
                                            "real_time",
+                                           "keep_workers_awake",
                                            "sensor_noise",
                                            "seed",
                                            "kp",
@@ -63,7 +64,7 @@ MpcConfig DefaultMpcConfig(const Model& model, const ContactOptions& scene_conta
 }
 
 /// control_rate, iterations_per_step, duration, initial_iterations, plant, plant_time_step,
-/// real_time and the MuJoCo friction keys.
+/// real_time, keep_workers_awake and the MuJoCo friction keys.
 void ReadScalars(const MapReader& mpc, MpcConfig* m) {
   mpc::MpcOptions& c = m->controller;
   c.control_rate = mpc.Positive("control_rate", c.control_rate);
@@ -77,6 +78,7 @@ void ReadScalars(const MapReader& mpc, MpcConfig* m) {
   m->mujoco.time_step = cl.plant_time_step;
   cl.duration = mpc.Positive("duration", cl.duration);
   cl.real_time = mpc.Bool("real_time", cl.real_time);
+  cl.keep_workers_awake = mpc.Bool("keep_workers_awake", cl.keep_workers_awake);
   if (cl.duration < cl.plant_time_step) {
     const bool given = mpc.Has("duration");
     mpc.reader().FailValue(

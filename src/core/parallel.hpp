@@ -38,6 +38,7 @@
 /// threads) runs its indices serially on its own thread with `thread` = 0. That never deadlocks
 /// and keeps results identical; it only loses the parallelism of the second caller.
 
+#include <chrono>
 #include <string>
 
 #include "idto/core/errors.hpp"
@@ -65,6 +66,14 @@ void SetWorkerWakeDelayForTesting(int milliseconds);
 
 /// Testing hook: the number of worker threads the pool has started.
 int NumThreadPoolWorkers();
+/// How long an idle worker keeps yielding (awake, ready for the next phase) before it sleeps on
+/// a condition variable: 250 µs by default, enough for the serial gaps inside a solver
+/// iteration. A paced control loop sets it above its period to keep the workers awake between
+/// re-plans (mpc::ClosedLoopOptions::keep_workers_awake). Returns the previous value; throws
+/// InvalidArgument for a negative time. Takes effect from each worker's next wait.
+std::chrono::microseconds SetThreadPoolIdleYield(std::chrono::microseconds yield_time);
+/// The idle workers' current yield time (SetThreadPoolIdleYield).
+std::chrono::microseconds ThreadPoolIdleYield();
 
 }  // namespace internal
 

@@ -21,6 +21,7 @@
 #include <exception>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <system_error>
 #include <thread>
 #include <vector>
@@ -30,10 +31,13 @@
 namespace idto::internal {
 namespace {
 
-// Waiting: spin this many checks (with a CPU pause), then yield until kYieldTime has passed
-// since the wait began, then sleep on a condition variable.
+// Waiting: spin this many checks (with a CPU pause), then yield until the yield time has passed
+// since the wait began (kYieldTime; for idle workers SetThreadPoolIdleYield's), then sleep on a
+// condition variable.
 constexpr int kSpinChecks = 256;
 constexpr std::chrono::microseconds kYieldTime{250};
+// The idle workers' yield time in microseconds (SetThreadPoolIdleYield).
+std::atomic<std::int64_t> idle_yield_us{kYieldTime.count()};
 // Ranges longer than kChunksPerThread * participants are cut into chunks of several indices.
 constexpr int kChunksPerThread = 4;  // see parallel.hpp
 
@@ -67,13 +71,13 @@ struct SleepSlot {
   std::condition_variable cv;
 
   template <typename Ready>
-  void WaitUntil(const Ready& ready) {
+  void WaitUntil(const Ready& ready, std::chrono::microseconds yield_time = kYieldTime) {
     for (int i = 0; i < kSpinChecks; ++i) {
       if (ready()) return;
       CpuRelax();
     }
     const auto start = std::chrono::steady_clock::now();
-    while (std::chrono::steady_clock::now() - start < kYieldTime) {
+    while (std::chrono::steady_clock::now() - start < yield_time) {
       if (ready()) return;
       std::this_thread::yield();
     }
@@ -180,7 +184,9 @@ void ThreadPool::StartWorkers(int count) {
 void ThreadPool::WorkerLoop(Worker* worker, int thread) {
   std::uint64_t seen = 0;
   for (;;) {
-    worker->slot.WaitUntil([&] { return worker->mailbox.load(std::memory_order_seq_cst) != seen; });
+    worker->slot.WaitUntil(
+        [&] { return worker->mailbox.load(std::memory_order_seq_cst) != seen; },
+        std::chrono::microseconds(idle_yield_us.load(std::memory_order_relaxed)));
     seen = worker->mailbox.load(std::memory_order_seq_cst);
     if (seen == kStopGeneration) return;
     if (wake_delay_ms_.load(std::memory_order_relaxed) > 0) DelayForTesting(worker);
@@ -292,5 +298,17 @@ void SetWorkerWakeDelayForTesting(int milliseconds) {
 }
 
 int NumThreadPoolWorkers() { return ThreadPool::Instance().num_workers(); }
+
+std::chrono::microseconds SetThreadPoolIdleYield(std::chrono::microseconds yield_time) {
+  if (yield_time.count() < 0) {
+    ThrowInvalidArgument("SetThreadPoolIdleYield", "yield_time",
+                         std::to_string(yield_time.count()) + " us", ">= 0");
+  }
+  return std::chrono::microseconds(idle_yield_us.exchange(yield_time.count()));
+}
+
+std::chrono::microseconds ThreadPoolIdleYield() {
+  return std::chrono::microseconds(idle_yield_us.load(std::memory_order_relaxed));
+}
 
 }  // namespace idto::internal

@@ -15,6 +15,7 @@
 #include <Eigen/Geometry>
 #include <stdexcept>
 
+#include "core/parallel.hpp"
 #include "idto/core/errors.hpp"
 
 namespace idto::mpc {
@@ -149,12 +150,39 @@ void DisturbanceAt(const std::vector<Disturbance>& disturbances, double t, int* 
   }
 }
 
+using Clock = std::chrono::steady_clock;
+
+/// keep_workers_awake: for its lifetime, idle pool workers yield for a control period plus 2 ms
+/// before they sleep, so they are awake when the next re-plan starts.
+class AwakeWorkers {
+ public:
+  AwakeWorkers(bool enabled, double period) {
+    if (!enabled) return;
+    const auto awake = std::chrono::duration_cast<std::chrono::microseconds>(
+        std::chrono::duration<double>(period + 2e-3));
+    previous_ = internal::SetThreadPoolIdleYield(std::max(awake, internal::ThreadPoolIdleYield()));
+  }
+  ~AwakeWorkers() {
+    if (previous_.count() >= 0) internal::SetThreadPoolIdleYield(previous_);
+  }
+  AwakeWorkers(const AwakeWorkers&) = delete;
+  AwakeWorkers& operator=(const AwakeWorkers&) = delete;
+
+ private:
+  std::chrono::microseconds previous_{-1};  // -1: not changed
+};
+
+/// real_time: sleeps until t seconds after `start`.
+void SleepUntil(Clock::time_point start, double t) {
+  std::this_thread::sleep_until(
+      start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(t)));
+}
+
 }  // namespace
 
 ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options,
                             Controller* controller, sim::Plant* plant) {
   CheckOptions(options);
-  using Clock = std::chrono::steady_clock;
   ClosedLoopLog log;
   const double period = 1.0 / controller->options().control_rate;
   log.control_period = period;
@@ -183,6 +211,7 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
   plant->SetExtraDamping(kd_implicit);
   Eigen::VectorXd u_plant = u;
 
+  const AwakeWorkers awake_workers(options.keep_workers_awake, period);
   const Clock::time_point run_start = Clock::now();
   for (long step = 0; step < steps; ++step) {
     const double t = step * dt;
@@ -194,10 +223,7 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
       pending_at = -1.0;
     }
     if (step % steps_per_replan == 0 && step > 0) {
-      if (options.real_time) {
-        std::this_thread::sleep_until(run_start + std::chrono::duration_cast<Clock::duration>(
-                                                      std::chrono::duration<double>(t)));
-      }
+      if (options.real_time) SleepUntil(run_start, t);
       const Clock::time_point t0 = Clock::now();
       const SolverSummary s = controller->Replan(t, q_hat, v_hat);
       const double solve = std::chrono::duration<double>(Clock::now() - t0).count();

@@ -166,5 +166,26 @@ TEST(ParallelFor, WorkersTakeItems) {
   EXPECT_GE(internal::NumThreadPoolWorkers(), 1);
 }
 
+// The idle workers' yield time: set, read back, restored; negative times are refused; phases
+// run as before with workers that stay awake between them.
+TEST(ParallelFor, IdleYieldTimeIsSetReadAndRestored) {
+  using std::chrono::microseconds;
+  const microseconds original = internal::ThreadPoolIdleYield();
+  EXPECT_EQ(original, microseconds(250));
+  EXPECT_EQ(internal::SetThreadPoolIdleYield(microseconds(30000)), original);
+  EXPECT_EQ(internal::ThreadPoolIdleYield(), microseconds(30000));
+  EXPECT_THAT([] { internal::SetThreadPoolIdleYield(microseconds(-1)); },
+              ::testing::ThrowsMessage<InvalidArgument>(::testing::HasSubstr("yield_time")));
+  EXPECT_EQ(internal::ThreadPoolIdleYield(), microseconds(30000));
+  for (int phase = 0; phase < 3; ++phase) {
+    std::vector<int> visits(64, 0);
+    ParallelFor(0, 64, 2, [&](int i, int) { ++visits[i]; });
+    EXPECT_EQ(std::count(visits.begin(), visits.end(), 1), 64);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));  // idle, awake
+  }
+  EXPECT_EQ(internal::SetThreadPoolIdleYield(original), microseconds(30000));
+  EXPECT_EQ(internal::ThreadPoolIdleYield(), original);
+}
+
 }  // namespace
 }  // namespace idto

@@ -19,6 +19,7 @@
 
 #include "campaign/campaign.hpp"
 #include "campaign/campaign_report.hpp"
+#include "core/parallel.hpp"
 #include "idto/config/config.hpp"
 #include "idto/config/mpc_config.hpp"
 #include "idto/core/errors.hpp"
@@ -246,7 +247,7 @@ TEST(ClosedLoopConditions, LatePlansAreDiscardedAndCounted) {
   }
 }
 
-TEST(ClosedLoopConditions, RealTimePacesTheLoopAndChangesNothingElse) {
+TEST(ClosedLoopConditions, RealTimeAndAwakeWorkersChangeNothingButTheTiming) {
   mpc::ClosedLoopOptions cl;
   cl.duration = 0.3;
   cl.latency = mpc::LatencyModel::kFixed;
@@ -260,11 +261,18 @@ TEST(ClosedLoopConditions, RealTimePacesTheLoopAndChangesNothingElse) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // The last re-plan (200 Hz) is due at 0.295 s after the loop's start.
   EXPECT_GE(wall, 0.295);
-  ASSERT_EQ(paced.replan_time, free_running.replan_time);
-  ASSERT_EQ(paced.q.size(), free_running.q.size());
-  for (size_t k = 0; k < paced.q.size(); ++k) {
-    ASSERT_EQ(paced.q[k], free_running.q[k]) << k;
-    ASSERT_EQ(paced.u[k], free_running.u[k]) << k;
+  // Workers kept awake: the same run, and the pool's idle setting is restored afterwards.
+  cl.keep_workers_awake = true;
+  const std::chrono::microseconds idle_yield = internal::ThreadPoolIdleYield();
+  const mpc::ClosedLoopLog awake = RunSpinner(cl);
+  EXPECT_EQ(internal::ThreadPoolIdleYield(), idle_yield);
+  for (const mpc::ClosedLoopLog* log : {&paced, &awake}) {
+    ASSERT_EQ(log->replan_time, free_running.replan_time);
+    ASSERT_EQ(log->q.size(), free_running.q.size());
+    for (size_t k = 0; k < log->q.size(); ++k) {
+      ASSERT_EQ(log->q[k], free_running.q[k]) << k;
+      ASSERT_EQ(log->u[k], free_running.u[k]) << k;
+    }
   }
 }
 
@@ -300,6 +308,11 @@ TEST(ClosedLoopConditions, MpcSectionReadsNoiseJitterAndSeed) {
   EXPECT_TRUE(ParseMpcConfig(LoadSpinnerWithMpc("  real_time: true\n")).closed_loop.real_time);
   EXPECT_THAT([] { LoadSpinnerWithMpc("  real_time: 2\n"); },
               ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.real_time")));
+  EXPECT_FALSE(ParseMpcConfig(Load("spinner")).closed_loop.keep_workers_awake);
+  EXPECT_TRUE(ParseMpcConfig(LoadSpinnerWithMpc("  keep_workers_awake: true\n"))
+                  .closed_loop.keep_workers_awake);
+  EXPECT_THAT([] { LoadSpinnerWithMpc("  keep_workers_awake: yes please\n"); },
+              ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.keep_workers_awake")));
 }
 
 }  // namespace

@@ -109,7 +109,9 @@ def test_run_closed_loop_from_cpp(spinner):
     options.implicit_damping, options.log_every = True, 10
     options.plant_time_step = 1e-3
     assert options.real_time is False and options.latency_jitter == 0.0 and options.seed == 0
+    assert options.keep_workers_awake is False
     options.real_time, options.latency_jitter, options.seed = True, 0.0, 3
+    options.keep_workers_awake = True
     start = time.monotonic()
     log = idto.run_closed_loop(ex.model, options, ctl, plant)
     assert time.monotonic() - start >= 0.195  # paced: the last re-plan is due at 0.195 s

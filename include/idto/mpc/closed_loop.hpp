@@ -77,6 +77,13 @@ struct ClosedLoopOptions {
   /// that computes continuously (docs/benchmarks.md, "Issue 19: iteration time beside a busy
   /// competitor").
   bool real_time{false};
+  /// Keep the solver's worker threads awake between re-plans: for the run, idle workers yield
+  /// for up to a control period plus 2 ms before they sleep (instead of 250 µs), so a re-plan
+  /// finds them running. For a paced loop on a machine to itself: on this 2-core VM it cut the
+  /// quadruped's paced re-plan from 2.2 to 1.4 ms (mean), but beside a busy process the awake
+  /// workers lose the scheduler's preference for threads that slept, and the p95 grew (docs/
+  /// benchmarks.md, "Issue 19"). The pool's setting is restored when the run ends.
+  bool keep_workers_awake{false};
 };
 
 /// What a closed-loop run recorded.
