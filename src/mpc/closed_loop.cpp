@@ -7,7 +7,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <random>
+#include <set>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -153,23 +155,49 @@ void DisturbanceAt(const std::vector<Disturbance>& disturbances, double t, int* 
 using Clock = std::chrono::steady_clock;
 
 /// keep_workers_awake: for its lifetime, idle pool workers yield for a control period plus 2 ms
-/// before they sleep, so they are awake when the next re-plan starts.
+/// before they sleep, so they are awake when the next re-plan starts. Loops running at the same
+/// time (on several threads) share the process-wide setting: it is the largest of their
+/// requests, and the value before the first returns when the last one ends.
 class AwakeWorkers {
  public:
   AwakeWorkers(bool enabled, double period) {
     if (!enabled) return;
-    const auto awake = std::chrono::duration_cast<std::chrono::microseconds>(
+    request_ = std::chrono::duration_cast<std::chrono::microseconds>(
         std::chrono::duration<double>(period + 2e-3));
-    previous_ = internal::SetThreadPoolIdleYield(std::max(awake, internal::ThreadPoolIdleYield()));
+    const std::lock_guard<std::mutex> lock(Mutex());
+    if (Requests().empty()) Original() = internal::ThreadPoolIdleYield();
+    Requests().insert(request_);
+    Apply();
   }
   ~AwakeWorkers() {
-    if (previous_.count() >= 0) internal::SetThreadPoolIdleYield(previous_);
+    if (request_.count() < 0) return;
+    const std::lock_guard<std::mutex> lock(Mutex());
+    Requests().erase(Requests().find(request_));
+    Apply();
   }
   AwakeWorkers(const AwakeWorkers&) = delete;
   AwakeWorkers& operator=(const AwakeWorkers&) = delete;
 
  private:
-  std::chrono::microseconds previous_{-1};  // -1: not changed
+  static std::mutex& Mutex() {
+    static std::mutex mutex;
+    return mutex;
+  }
+  static std::multiset<std::chrono::microseconds>& Requests() {
+    static std::multiset<std::chrono::microseconds> requests;
+    return requests;
+  }
+  static std::chrono::microseconds& Original() {
+    static std::chrono::microseconds original{0};
+    return original;
+  }
+  // Under Mutex(): the pool's setting is the largest request, or the original value.
+  static void Apply() {
+    internal::SetThreadPoolIdleYield(
+        Requests().empty() ? Original() : std::max(*Requests().rbegin(), Original()));
+  }
+
+  std::chrono::microseconds request_{-1};  // -1: not enabled
 };
 
 /// real_time: sleeps until t seconds after `start`.

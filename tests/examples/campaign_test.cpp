@@ -13,6 +13,7 @@
 #include <random>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <Eigen/Core>
@@ -274,6 +275,40 @@ TEST(ClosedLoopConditions, RealTimeAndAwakeWorkersChangeNothingButTheTiming) {
       ASSERT_EQ(log->u[k], free_running.u[k]) << k;
     }
   }
+}
+
+// Two paced loops at once (on two threads), both keeping the workers awake; the first to start
+// ends first. While the second runs the pool keeps the raised setting, and afterwards it is the
+// one from before both (restoring on each loop's own end would leave it raised).
+TEST(ClosedLoopConditions, ConcurrentLoopsWithAwakeWorkersRestoreThePoolSetting) {
+  const std::chrono::microseconds before = internal::ThreadPoolIdleYield();
+  mpc::ClosedLoopOptions first;
+  first.duration = 0.3;
+  first.latency = mpc::LatencyModel::kFixed;
+  first.fixed_latency = 1e-3;
+  first.real_time = true;
+  first.keep_workers_awake = true;
+  mpc::ClosedLoopOptions second = first;
+  second.duration = 0.6;
+  bool first_ok = false;
+  std::thread other([&] {
+    try {
+      first_ok = !RunSpinner(first).solve_time.empty();
+    } catch (...) {
+      first_ok = false;
+    }
+  });
+  // Start the second loop once the first one has raised the setting.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (internal::ThreadPoolIdleYield() == before && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  EXPECT_GT(internal::ThreadPoolIdleYield(), before);
+  const mpc::ClosedLoopLog log = RunSpinner(second);
+  other.join();
+  EXPECT_TRUE(first_ok);
+  EXPECT_FALSE(log.solve_time.empty());
+  EXPECT_EQ(internal::ThreadPoolIdleYield(), before);
 }
 
 /// The spinner's file with `lines` as its `mpc:` section.

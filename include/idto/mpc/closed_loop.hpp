@@ -82,7 +82,9 @@ struct ClosedLoopOptions {
   /// finds them running. For a paced loop on a machine to itself: on this 2-core VM it cut the
   /// quadruped's paced re-plan from 2.2 to 1.4 ms (mean), but beside a busy process the awake
   /// workers lose the scheduler's preference for threads that slept, and the p95 grew (docs/
-  /// benchmarks.md, "Issue 19"). The pool's setting is restored when the run ends.
+  /// benchmarks.md, "Issue 19"). The pool's setting is process-wide: loops running at the same
+  /// time get the largest of their requests, and the value from before returns when the last
+  /// of them ends.
   bool keep_workers_awake{false};
 };
 
