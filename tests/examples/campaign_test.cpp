@@ -195,12 +195,18 @@ mpc::ClosedLoopLog RunSpinner(const mpc::ClosedLoopOptions& cl) {
   return mpc::RunClosedLoop(config.model, cl, &controller, plant.get());
 }
 
-TEST(ClosedLoopConditions, NoiseAndJitterAreReproducibleFromTheSeed) {
+/// Closed-loop options for `duration` s with a fixed latency (reproducible), logging every step.
+mpc::ClosedLoopOptions FixedLatencyOptions(double duration, double latency) {
   mpc::ClosedLoopOptions cl;
-  cl.duration = 0.3;
+  cl.duration = duration;
   cl.latency = mpc::LatencyModel::kFixed;
-  cl.fixed_latency = 1e-3;
+  cl.fixed_latency = latency;
   cl.log_every = 1;
+  return cl;
+}
+
+TEST(ClosedLoopConditions, NoiseAndJitterAreReproducibleFromTheSeed) {
+  mpc::ClosedLoopOptions cl = FixedLatencyOptions(0.3, 1e-3);
   const mpc::ClosedLoopLog quiet = RunSpinner(cl);
   cl.sensor_noise = {1e-3, 0.02, 1e-3};
   cl.latency_jitter = 2e-3;
@@ -223,11 +229,7 @@ TEST(ClosedLoopConditions, NoiseAndJitterAreReproducibleFromTheSeed) {
 }
 
 TEST(ClosedLoopConditions, LatePlansAreDiscardedAndCounted) {
-  mpc::ClosedLoopOptions cl;
-  cl.duration = 0.1;
-  cl.latency = mpc::LatencyModel::kFixed;
-  cl.log_every = 1;
-  cl.fixed_latency = 4e-3;
+  mpc::ClosedLoopOptions cl = FixedLatencyOptions(0.1, 4e-3);
   cl.latency_jitter = 2e-3;  // late when the draw exceeds 1 ms: about half the re-plans
   cl.seed = 1;
   const mpc::ClosedLoopLog some = RunSpinner(cl);
@@ -249,11 +251,7 @@ TEST(ClosedLoopConditions, LatePlansAreDiscardedAndCounted) {
 }
 
 TEST(ClosedLoopConditions, RealTimeAndAwakeWorkersChangeNothingButTheTiming) {
-  mpc::ClosedLoopOptions cl;
-  cl.duration = 0.3;
-  cl.latency = mpc::LatencyModel::kFixed;
-  cl.fixed_latency = 1e-3;
-  cl.log_every = 1;
+  mpc::ClosedLoopOptions cl = FixedLatencyOptions(0.3, 1e-3);
   const mpc::ClosedLoopLog free_running = RunSpinner(cl);
   cl.real_time = true;
   const auto start = std::chrono::steady_clock::now();
@@ -282,10 +280,7 @@ TEST(ClosedLoopConditions, RealTimeAndAwakeWorkersChangeNothingButTheTiming) {
 // one from before both (restoring on each loop's own end would leave it raised).
 TEST(ClosedLoopConditions, ConcurrentLoopsWithAwakeWorkersRestoreThePoolSetting) {
   const std::chrono::microseconds before = internal::ThreadPoolIdleYield();
-  mpc::ClosedLoopOptions first;
-  first.duration = 0.3;
-  first.latency = mpc::LatencyModel::kFixed;
-  first.fixed_latency = 1e-3;
+  mpc::ClosedLoopOptions first = FixedLatencyOptions(0.3, 1e-3);
   first.real_time = true;
   first.keep_workers_awake = true;
   mpc::ClosedLoopOptions second = first;
