@@ -40,7 +40,7 @@ TEST(CampaignHeavy, Spinner50Runs) {
 TEST(CampaignHeavy, Quadruped50Runs) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
   // docs/mpc.md: 50 of 50 at this seed with session 19's flat controller (planner smoothing
-  // 2 mm; 591 of 600 on seeds 5001-16001), 48 of 50 on the hills with session 15's.
+  // 2 mm; 591 of 600 on seeds 5001-16001), 48 of 50 on the hills (session 19: ground 2 mm).
   EXPECT_GE(CampaignSuccesses("quadruped", 50, 1), 48);
 }
 
