@@ -40,8 +40,8 @@ class ConfigLoader {
 
   // contact_section.cpp: contact_ (pairs, groups, overrides, law parameters).
   void LoadContact(const YAML::Node& node, const std::string& path);
-  void LoadContactParameters(const YAML::Node& node, const std::string& path,
-                             ContactParameters* p) const;
+  /// mpc.contact into contact_: law parameters replaced, per-pair overrides appended.
+  void LoadMpcContact(const YAML::Node& node, const std::string& path);
   void LoadContactGroups(const YAML::Node& node, const std::string& path);
   void LoadContactOverrides(const YAML::Node& node, const std::string& path);
   std::string ContactName(const YAML::Node& node, const std::string& path) const;

@@ -1,5 +1,5 @@
 // `scene.contact` (the contact law parameters, force tolerance, pair filters, per-pair
-// overrides) and `mpc.contact` (the controller's own law parameters).
+// overrides) and `mpc.contact` (the controller's own law parameters and per-pair overrides).
 
 #include <string>
 #include <utility>
@@ -33,9 +33,13 @@ void ReadContactParameters(const MapReader& c, ContactParameters* p) {
 
 }  // namespace
 
-void ConfigLoader::LoadContactParameters(const YAML::Node& node, const std::string& path,
-                                         ContactParameters* p) const {
-  ReadContactParameters(MapReader(reader_, node, path, kContactParameterKeys), p);
+void ConfigLoader::LoadMpcContact(const YAML::Node& node, const std::string& path) {
+  std::vector<std::string> keys = kContactParameterKeys;
+  keys.push_back("overrides");
+  const MapReader c(reader_, node, path, keys);
+  ReadContactParameters(c, &contact_.parameters);
+  // Appended after the scene's: overrides apply in order, so the controller's win.
+  if (c.Has("overrides")) LoadContactOverrides(c.Get("overrides"), c.Path("overrides"));
 }
 
 void ConfigLoader::LoadContact(const YAML::Node& node, const std::string& path) {

@@ -261,12 +261,12 @@ MpcConfig ReadMpcConfig(const MapReader& mpc, const ExampleConfig& config) {
 
 void ConfigLoader::LoadMpc(const YAML::Node& node, const YAML::Node& open_loop_problem) {
   const MapReader mpc(reader_, node, "mpc", kMpcKeys);
-  // The controller's own contact law (parameters only: the scene's pair filters and per-pair
-  // overrides stay) and problem, when given.
+  // The controller's own contact law (parameters, and per-pair overrides after the scene's; the
+  // scene's pair filters stay) and problem, when given.
   if (mpc.Has("problem") || mpc.Has("contact")) {
     const ContactOptions scene_contact = contact_;
     if (mpc.Has("contact")) {
-      LoadContactParameters(mpc.Get("contact"), mpc.Path("contact"), &contact_.parameters);
+      LoadMpcContact(mpc.Get("contact"), mpc.Path("contact"));
     }
     LoadMpcProblem(open_loop_problem,
                    mpc.Has("problem") ? mpc.Get("problem") : YAML::Node(YAML::NodeType::Map));

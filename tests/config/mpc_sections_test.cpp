@@ -113,6 +113,37 @@ TEST(ConfigTest, MpcContactReplacesTheControllersLawParametersOnly) {
   EXPECT_FALSE(config.mpc_solver.has_value());
 }
 
+// mpc.contact.overrides: appended after the scene's (later overrides win) in the controller's
+// problem only; the open-loop problem and the plants keep the scene's.
+TEST(ConfigTest, MpcContactOverridesFollowTheScenesInTheControllerOnly) {
+  const std::string scene = With("    - urdf: acrobot.urdf\n",
+                                 "    - urdf: acrobot.urdf\n  contact: {smoothing: 0.01, "
+                                 "overrides: [{a: upper_link, b: \"*\", smoothing: 0.005}]}\n");
+  const ExampleConfig config = LoadText(scene + R"(mpc:
+  contact: {smoothing: 0.002, overrides: [{a: lower_link, b: "*", smoothing: 0.02, stiffness: 900}]}
+)");
+  ASSERT_EQ(config.problem.contact.overrides.size(), 1u);
+  EXPECT_EQ(config.problem.contact.overrides[0].a, "upper_link");
+  ASSERT_TRUE(config.mpc_problem.has_value());
+  const ContactOptions& c = config.mpc_problem->contact;
+  EXPECT_DOUBLE_EQ(c.parameters.smoothing, 0.002);
+  ASSERT_EQ(c.overrides.size(), 2u);
+  EXPECT_EQ(c.overrides[0].a, "upper_link");
+  EXPECT_DOUBLE_EQ(*c.overrides[0].smoothing, 0.005);
+  EXPECT_EQ(c.overrides[1].a, "lower_link");
+  EXPECT_EQ(c.overrides[1].b, "*");
+  EXPECT_DOUBLE_EQ(*c.overrides[1].smoothing, 0.02);
+  EXPECT_DOUBLE_EQ(*c.overrides[1].stiffness, 900);
+  EXPECT_FALSE(c.overrides[1].friction_coefficient.has_value());
+  ASSERT_EQ(ParseMpcConfig(config).mujoco.pairs.overrides.size(), 1u);
+  EXPECT_THAT(Loading(kBase + "mpc:\n  contact: {overrides: [{a: no_such_body, b: \"*\"}]}\n"),
+              ThrowsMessage<FileError>(
+                  AllOf(HasSubstr("mpc.contact.overrides[0].a"), HasSubstr("no_such_body"))));
+  EXPECT_THAT(
+      Loading(kBase + "mpc:\n  contact: {overrides: [{a: upper_link, b: \"*\", smoothing: 0}]}\n"),
+      ThrowsMessage<FileError>(HasSubstr("mpc.contact.overrides[0].smoothing")));
+}
+
 TEST(ConfigTest, MpcContactAndProblemCombine) {
   const ExampleConfig config = LoadText(kBase + R"(mpc:
   contact: {stiffness: 20000}

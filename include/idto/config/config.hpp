@@ -80,9 +80,10 @@ struct ExampleConfig {
   std::optional<MpcConfig> mpc;
   /// The controller's problem when `mpc.problem` or `mpc.contact` is given: `problem` with the
   /// keys of `mpc.problem` replacing the open-loop ones (`nominal` and `weights` merged key by
-  /// key) and the contact law parameters of `mpc.contact` replacing the scene's (pair filters and
-  /// per-pair overrides stay the scene's), validated like `problem` (errors name
-  /// "mpc.problem.<key>" or "mpc.contact.<key>"). Empty otherwise: the controller uses `problem`.
+  /// key) and the contact law parameters of `mpc.contact` replacing the scene's (its per-pair
+  /// `overrides` follow the scene's, so they win; pair filters stay the scene's), validated like
+  /// `problem` (errors name "mpc.problem.<key>" or "mpc.contact.<key>"). Empty otherwise: the
+  /// controller uses `problem`.
   std::optional<ProblemDefinition> mpc_problem;
   /// The controller's solver options when `mpc.solver` is given: `solver` with the keys of
   /// `mpc.solver` replacing the open-loop ones (errors name "mpc.solver.<key>"). Empty
