@@ -47,26 +47,31 @@ def test_solve_on_a_thread_while_python_runs(spinner):
 
 def test_python_thread_runs_during_solve_on_main_thread(spinner):
     ex = spinner
-    opts = short_options(ex, 60)
+    # 600 iterations (about 0.1 s): long against the scheduler's delays on a loaded machine (with
+    # 60, about 10 ms, the thread was once not scheduled at all during the solve under ctest -j2).
+    opts = short_options(ex, 600)
     opts.fixed_iterations = True
     opt = idto.TrajectoryOptimizer(ex.model, ex.problem, opts)
     counter = [0]
     stop = threading.Event()
+    running = threading.Event()
 
     def spin():
+        running.set()
         while not stop.is_set():
             counter[0] += 1
     thread = threading.Thread(target=spin)
     thread.start()
     try:
+        assert running.wait(timeout=60)
         start = counter[0]
         summary, _ = opt.solve(ex.initial_guess())
         progressed = counter[0] - start
     finally:
         stop.set()
         thread.join()
-    assert summary.iterations == 60
-    assert progressed > 1000
+    assert summary.iterations == 600
+    assert progressed > 1000, "the Python thread made no progress during the solve"
 
 
 def test_ctrl_c_stops_a_long_solve(spinner):
