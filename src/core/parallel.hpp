@@ -6,15 +6,16 @@
 /// Private to the library (not installed): callers in src/ include it as "core/parallel.hpp".
 ///
 /// **Scheduling.** `ParallelFor(begin, end, num_threads, body)` splits [begin, end) into chunks
-/// (about four per participant: each claim is a contended atomic, ~2 µs per phase in all) and
-/// publishes them to the process-wide pool
-/// (src/core/thread_pool.cpp). The calling thread and up to `num_threads - 1` worker threads
-/// take chunks from one shared atomic counter until none is left; then the caller waits only for
-/// chunks other threads have already claimed. A worker that wakes up late, or is descheduled by
-/// the operating system, therefore holds the phase up by at most the chunk it is running: the
-/// caller does all unclaimed work itself. Idle threads spin for a few microseconds, yield for up
-/// to 250 µs (the serial parts of a solver iteration between two phases), then sleep on a
-/// condition variable.
+/// (about four per participant) and publishes them to the process-wide pool
+/// (src/core/thread_pool.cpp) as one home range of consecutive chunks per participant. The
+/// calling thread and up to `num_threads - 1` worker threads each take chunks from the front of
+/// their own range, then steal from the back of the others' until none is left; then the caller
+/// waits only for chunks other threads have already claimed. A worker that wakes up late, or is
+/// descheduled by the operating system, therefore holds the phase up by at most the chunk it is
+/// running: the caller does all unclaimed work itself. Without stealing, index i runs on the
+/// same thread in every phase over the same range, so its data stays in that core's cache.
+/// Idle threads spin for a few microseconds, yield for up to 250 µs (the serial parts of a
+/// solver iteration between two phases), then sleep on a condition variable.
 ///
 /// **Thread identities.** `body(i, thread)` receives `thread` in [0, num_threads): 0 for the
 /// calling thread, k for the pool's k-th worker. Each identity is used by at most one thread at a

@@ -2,13 +2,20 @@
 //
 // Protocol of one phase (a call of RunOnThreadPool that found the pool free):
 //  1. The caller writes the phase descriptor (`phase_`), resets the completion counter, then
-//     publishes the chunks in one atomic word `work_` = [generation | next chunk | chunk count].
+//     publishes the chunks as one home range per participant: participant p's chunks
+//     [p C / P, (p + 1) C / P) in the atomic word `ranges_[p]` = [generation | next | end].
 //  2. It posts the generation to the mailboxes of workers 1 .. participants-1 (waking those that
 //     sleep), then claims and runs chunks itself with thread identity 0.
-//  3. A participant claims a chunk by a compare-exchange on `work_` that succeeds only while the
-//     generation is its phase's and chunks remain; a worker that wakes after its phase ended
-//     sees another generation or no chunk left and claims nothing. A successful claim means the
-//     caller is still waiting for that chunk, so the descriptor it then reads is its phase's.
+//  3. A participant takes chunks from the front of its own range; when that is empty it steals
+//     from the back of the others'. A claim is a compare-exchange that succeeds only while the
+//     range's generation is the participant's phase's and chunks remain in it; a worker that
+//     wakes after its phase ended finds another generation or no chunk left and claims nothing
+//     (the ranges of an ended phase are all empty). A successful claim means the caller is still
+//     waiting for that chunk, so the descriptor it then reads is its phase's.
+//     Home ranges keep a time step on the same core from one phase to the next (the derivatives,
+//     the gradient and the Hessian rows of step k): on the 40-step spinner, claiming from one
+//     shared counter moved the steps between the cores at random and made 2 threads slower than
+//     one (docs/benchmarks.md, session 21).
 //  4. After running a chunk, the participant counts it in `done_`; the caller returns when every
 //     chunk is counted. It never waits for a worker that has not claimed a chunk.
 
@@ -41,19 +48,41 @@ std::atomic<std::int64_t> idle_yield_us{kYieldTime.count()};
 // Ranges longer than kChunksPerThread * participants are cut into chunks of several indices.
 constexpr int kChunksPerThread = 4;  // see parallel.hpp
 
-// The work word: generation (24 bits) | next chunk (20 bits) | number of chunks (20 bits).
+// A range word: generation (24 bits) | next chunk (20 bits) | end chunk (20 bits).
 constexpr int kCountBits = 20;
 constexpr std::uint64_t kCountMask = (std::uint64_t{1} << kCountBits) - 1;
 constexpr int kMaxChunks = static_cast<int>(kCountMask);
 constexpr std::uint64_t kGenerationMask = (std::uint64_t{1} << 24) - 1;
 constexpr std::uint64_t kStopGeneration = ~std::uint64_t{0};
 
-std::uint64_t PackWork(std::uint64_t generation, std::uint64_t next, std::uint64_t count) {
-  return ((generation & kGenerationMask) << (2 * kCountBits)) | (next << kCountBits) | count;
+std::uint64_t PackRange(std::uint64_t generation, std::uint64_t next, std::uint64_t end) {
+  return ((generation & kGenerationMask) << (2 * kCountBits)) | (next << kCountBits) | end;
 }
-std::uint64_t WorkGeneration(std::uint64_t word) { return word >> (2 * kCountBits); }
-int WorkNext(std::uint64_t word) { return static_cast<int>((word >> kCountBits) & kCountMask); }
-int WorkCount(std::uint64_t word) { return static_cast<int>(word & kCountMask); }
+std::uint64_t RangeGeneration(std::uint64_t word) { return word >> (2 * kCountBits); }
+int RangeNext(std::uint64_t word) { return static_cast<int>((word >> kCountBits) & kCountMask); }
+int RangeEnd(std::uint64_t word) { return static_cast<int>(word & kCountMask); }
+
+// One participant's home range of chunks (cache-line aligned: its owner claims from it).
+struct alignas(64) Range {
+  std::atomic<std::uint64_t> word{0};  // generation 0, empty
+};
+
+// Takes the first (front) or the last (!front) chunk of `range` if it belongs to `generation`.
+bool TakeChunk(std::atomic<std::uint64_t>* range, std::uint64_t generation, bool front,
+               int* chunk) {
+  std::uint64_t word = range->load(std::memory_order_acquire);
+  for (;;) {
+    if (RangeGeneration(word) != (generation & kGenerationMask)) return false;
+    const int next = RangeNext(word), end = RangeEnd(word);
+    if (next >= end) return false;
+    const std::uint64_t taken = front ? word + (std::uint64_t{1} << kCountBits) : word - 1;
+    if (range->compare_exchange_weak(word, taken, std::memory_order_acq_rel,
+                                     std::memory_order_acquire)) {
+      *chunk = front ? next : end - 1;
+      return true;
+    }
+  }
+}
 
 inline void CpuRelax() {
 #if defined(__x86_64__) || defined(__i386__)
@@ -139,12 +168,13 @@ class ThreadPool {
   void WorkerLoop(Worker* worker, int thread);
   void DelayForTesting(Worker* worker);
   void Participate(std::uint64_t generation, int thread);
-  bool Claim(std::uint64_t generation, int* chunk);
+  bool Claim(std::uint64_t generation, int thread, int* chunk);
   void RunChunk(int chunk, int thread);
   void RecordFailure(int i, std::exception_ptr error);
 
   std::atomic<bool> busy_{false};
-  alignas(64) std::atomic<std::uint64_t> work_{0};
+  Range ranges_[kMaxParallelThreads];  // home ranges of the current phase's participants
+  std::atomic<int> participants_{0};   // of the latest phase (a hint: see Claim)
   alignas(64) std::atomic<int> done_{0};
   std::atomic<int> first_failure_{INT_MAX};  // smallest index that threw in this phase
   std::mutex error_mutex_;
@@ -202,22 +232,24 @@ void ThreadPool::DelayForTesting(Worker* worker) {
   });
 }
 
-bool ThreadPool::Claim(std::uint64_t generation, int* chunk) {
-  std::uint64_t word = work_.load(std::memory_order_acquire);
-  for (;;) {
-    if (WorkGeneration(word) != (generation & kGenerationMask)) return false;
-    if (WorkNext(word) >= WorkCount(word)) return false;
-    if (work_.compare_exchange_weak(word, word + (std::uint64_t{1} << kCountBits),
-                                    std::memory_order_acq_rel, std::memory_order_acquire)) {
-      *chunk = WorkNext(word);
+bool ThreadPool::Claim(std::uint64_t generation, int thread, int* chunk) {
+  if (TakeChunk(&ranges_[thread].word, generation, true, chunk)) return true;
+  // The count only bounds the search: a range of another phase never yields a chunk (those of
+  // an ended phase are empty, those of a later one carry its generation).
+  const int participants =
+      std::min(participants_.load(std::memory_order_acquire), kMaxParallelThreads);
+  for (int s = 1; s < participants; ++s) {
+    const int victim = (thread + s) % participants;
+    if (victim != thread && TakeChunk(&ranges_[victim].word, generation, false, chunk)) {
       return true;
     }
   }
+  return false;
 }
 
 void ThreadPool::Participate(std::uint64_t generation, int thread) {
   int chunk = 0;
-  while (Claim(generation, &chunk)) {
+  while (Claim(generation, thread, &chunk)) {
     const int num_chunks = phase_.num_chunks;  // read while the phase is surely running
     RunChunk(chunk, thread);
     // After this increment the phase may end: nothing of it is touched any more.
@@ -264,8 +296,13 @@ bool ThreadPool::TryRun(int begin, int end, int num_threads, ItemFunction fn, co
   first_failure_.store(INT_MAX, std::memory_order_relaxed);
   error_ = nullptr;
   const std::uint64_t generation = ++generation_;
-  work_.store(PackWork(generation, 0, static_cast<std::uint64_t>(phase_.num_chunks)),
-              std::memory_order_seq_cst);
+  const std::uint64_t chunks = static_cast<std::uint64_t>(phase_.num_chunks);
+  const std::uint64_t parts = static_cast<std::uint64_t>(participants);
+  participants_.store(participants, std::memory_order_release);
+  for (std::uint64_t p = 0; p < parts; ++p) {
+    ranges_[p].word.store(PackRange(generation, p * chunks / parts, (p + 1) * chunks / parts),
+                          std::memory_order_seq_cst);
+  }
   for (int k = 0; k + 1 < participants; ++k) {
     Worker& worker = *workers_[static_cast<size_t>(k)];
     worker.mailbox.store(generation, std::memory_order_seq_cst);

@@ -166,6 +166,43 @@ TEST(ParallelFor, WorkersTakeItems) {
   EXPECT_GE(internal::NumThreadPoolWorkers(), 1);
 }
 
+// Home ranges: with P participants and one item per chunk (4 per participant), participant p
+// owns items [4p, 4p + 4). Its owner takes them from the front and others steal them from the
+// back, so in every phase, whatever the timing, each home range is a prefix run by its owner and
+// a suffix run by others. (One shared counter, as before session 21, breaks this: the caller
+// takes item 0, a worker item 1, the caller item 2.) And the items do get spread: in some phase
+// (30 at least, more up to 20 s if the workers are never scheduled) a worker runs the first item
+// of its own range.
+TEST(ParallelFor, OwnersTakeTheirRangeFromTheFrontAndOthersStealFromTheBack) {
+  for (int threads : {2, 3}) {
+    const int n = 4 * threads;
+    bool worker_started_its_range = false;
+    const auto deadline = Clock::now() + std::chrono::seconds(20);
+    for (int phase = 0; phase < 30 || (!worker_started_its_range && Clock::now() < deadline);
+         ++phase) {
+      std::vector<int> thread_of(static_cast<size_t>(n), -1);
+      ParallelFor(0, n, threads, [&](int i, int thread) {
+        thread_of[static_cast<size_t>(i)] = thread;
+        SpinFor(200);
+      });
+      for (int p = 0; p < threads; ++p) {
+        // Owner's items first, then only others' items.
+        bool in_suffix = false;
+        for (int i = 4 * p; i < 4 * p + 4; ++i) {
+          const int t = thread_of[static_cast<size_t>(i)];
+          ASSERT_GE(t, 0) << "item " << i << " did not run";
+          if (t != p) in_suffix = true;
+          EXPECT_FALSE(in_suffix && t == p)
+              << "threads " << threads << ", item " << i << ": its owner " << p
+              << " ran it after another thread stole an earlier one";
+        }
+        if (p > 0 && thread_of[static_cast<size_t>(4 * p)] == p) worker_started_its_range = true;
+      }
+    }
+    EXPECT_TRUE(worker_started_its_range) << "threads " << threads;
+  }
+}
+
 // The idle workers' yield time: set, read back, restored; negative times are refused; phases
 // run as before with workers that stay awake between them.
 TEST(ParallelFor, IdleYieldTimeIsSetReadAndRestored) {
