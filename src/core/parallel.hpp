@@ -13,7 +13,8 @@
 /// waits only for chunks other threads have already claimed. A worker that wakes up late, or is
 /// descheduled by the operating system, therefore holds the phase up by at most the chunk it is
 /// running: the caller does all unclaimed work itself. Without stealing, index i runs on the
-/// same thread in every phase over the same range, so its data stays in that core's cache.
+/// same thread in every phase over the same range with the same `num_threads`, so its data
+/// stays in that thread's cache (unless the OS migrates the thread).
 /// Idle threads spin for a few microseconds, yield for up to 250 µs (the serial parts of a
 /// solver iteration between two phases), then sleep on a condition variable.
 ///

@@ -12,10 +12,15 @@
 //     wakes after its phase ended finds another generation or no chunk left and claims nothing
 //     (the ranges of an ended phase are all empty). A successful claim means the caller is still
 //     waiting for that chunk, so the descriptor it then reads is its phase's.
-//     Home ranges keep a time step on the same core from one phase to the next (the derivatives,
-//     the gradient and the Hessian rows of step k): on the 40-step spinner, claiming from one
-//     shared counter moved the steps between the cores at random and made 2 threads slower than
-//     one (docs/benchmarks.md, session 21).
+//     Home ranges keep a time step on the same thread from one phase to the next when nothing
+//     is stolen and the phases have the same item and participant counts (the derivatives, the
+//     gradient and the Hessian rows of step k), so its data stays in that thread's cache unless
+//     the OS migrates the thread. On the 40-step spinner, claiming from one shared counter moved
+//     the steps between the threads at random and made 2 threads slower than one
+//     (docs/benchmarks.md, session 21).
+//  Generations are compared modulo 2^24 in the range words: a worker that stalls between
+//  reading its mailbox and claiming for exactly a multiple of 2^24 phases (minutes of other
+//  threads' work) could take a chunk of a later phase. This was so before the home ranges too.
 //  4. After running a chunk, the participant counts it in `done_`; the caller returns when every
 //     chunk is counted. It never waits for a worker that has not claimed a chunk.
 
@@ -173,8 +178,9 @@ class ThreadPool {
   void RecordFailure(int i, std::exception_ptr error);
 
   std::atomic<bool> busy_{false};
-  Range ranges_[kMaxParallelThreads];  // home ranges of the current phase's participants
-  std::atomic<int> participants_{0};   // of the latest phase (a hint: see Claim)
+  // Home ranges: [0, participants) of the latest phase; the others hold older, empty words.
+  Range ranges_[kMaxParallelThreads];
+  std::atomic<int> participants_{0};  // of the latest phase (a hint: see Claim)
   alignas(64) std::atomic<int> done_{0};
   std::atomic<int> first_failure_{INT_MAX};  // smallest index that threw in this phase
   std::mutex error_mutex_;
@@ -198,15 +204,17 @@ ThreadPool::~ThreadPool() {
 
 void ThreadPool::StartWorkers(int count) {
   while (static_cast<int>(workers_.size()) < count) {
-    auto worker = std::make_unique<Worker>();
-    Worker* raw = worker.get();
-    const int thread = static_cast<int>(workers_.size()) + 1;
+    // The slot first: a bad_alloc here leaves no running thread behind (destroying a joinable
+    // std::thread would terminate the process).
+    workers_.push_back(std::make_unique<Worker>());
+    Worker* raw = workers_.back().get();
+    const int thread = static_cast<int>(workers_.size());
     try {
-      worker->thread = std::thread([this, raw, thread] { WorkerLoop(raw, thread); });
+      raw->thread = std::thread([this, raw, thread] { WorkerLoop(raw, thread); });
     } catch (const std::system_error&) {
+      workers_.pop_back();
       return;  // out of threads: the phases run with the workers there are
     }
-    workers_.push_back(std::move(worker));
     num_workers_.store(static_cast<int>(workers_.size()), std::memory_order_relaxed);
   }
 }
@@ -235,14 +243,12 @@ void ThreadPool::DelayForTesting(Worker* worker) {
 bool ThreadPool::Claim(std::uint64_t generation, int thread, int* chunk) {
   if (TakeChunk(&ranges_[thread].word, generation, true, chunk)) return true;
   // The count only bounds the search: a range of another phase never yields a chunk (those of
-  // an ended phase are empty, those of a later one carry its generation).
+  // an ended phase are empty, those of a later one carry its generation, modulo 2^24).
   const int participants =
       std::min(participants_.load(std::memory_order_acquire), kMaxParallelThreads);
   for (int s = 1; s < participants; ++s) {
     const int victim = (thread + s) % participants;
-    if (victim != thread && TakeChunk(&ranges_[victim].word, generation, false, chunk)) {
-      return true;
-    }
+    if (TakeChunk(&ranges_[victim].word, generation, false, chunk)) return true;
   }
   return false;
 }
