@@ -32,10 +32,11 @@ struct SolverOptions {
   /// Largest accepted num_threads (a higher count is an error, not a silent cap).
   static constexpr int kMaxNumThreads = 256;
   /// Threads for per-step work, in [1, kMaxNumThreads] (results do not depend on it). More
-  /// threads pay off from about 10 degrees of freedom: measured on 2 cores, 2 threads take
-  /// 0.76× the 1-thread iteration on the quadruped (nv = 18) but 1.06–1.5× on the spinner,
-  /// hopper, acrobot and pendulum (nv ≤ 5), where moving a step's data between cores costs about
-  /// what splitting the work saves (docs/benchmarks.md, session 21).
+  /// threads pay off reliably from about 10 degrees of freedom. On a 2-core virtual machine,
+  /// 2 threads took 0.76× the 1-thread iteration on the quadruped (nv = 18). On the spinner,
+  /// hopper, acrobot and pendulum (nv ≤ 5) they took 1.06–1.5× on one day and 0.61–0.73× on
+  /// another, depending on how costly it was to move a step's data between the cores
+  /// (docs/benchmarks.md, sessions 17 and 21). Measure on the target machine.
   int num_threads{1};
   ConstraintMethod constraint_method{ConstraintMethod::kPenalty};
   /// kPenalty: when > 0, the weight w of w/2 |h|^2, placed on R's unactuated entries (paper
