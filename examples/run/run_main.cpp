@@ -79,6 +79,9 @@ const char kUsage[] =
     "                                     (mpc.real_time), as a controller on a robot runs\n"
     "  --keep-workers-awake               with --mpc: solver threads wait awake between\n"
     "                                     re-plans (mpc.keep_workers_awake)\n"
+    "  --realtime-priority P              with --mpc: the loop and solver threads run under\n"
+    "                                     SCHED_FIFO at priority P in [1, 99] (0: off;\n"
+    "                                     mpc.realtime_priority); needs root or CAP_SYS_NICE\n"
     "  --summary-json FILE                write the JSON summary to FILE\n"
     "  --trajectory-csv FILE              write t, q, v, tau per time step to FILE\n"
     "  --stats-csv FILE                   write the per-iteration statistics to FILE\n"
@@ -98,6 +101,7 @@ struct Arguments {
   bool mpc{false};
   bool real_time{false};
   bool keep_workers_awake{false};
+  std::optional<int> realtime_priority;
   bool quiet{false};
   bool help{false};
   std::string summary_json;
@@ -192,6 +196,12 @@ Arguments ParseArguments(int argc, char** argv) {
     } else if (arg == "--keep-workers-awake") {
       no_value();
       args.keep_workers_awake = true;
+    } else if (arg == "--realtime-priority") {
+      args.realtime_priority = take_int(0);
+      if (*args.realtime_priority > 99) {
+        throw UsageError{"--realtime-priority is " + std::to_string(*args.realtime_priority) +
+                         "; expected 0 (off) or a SCHED_FIFO priority in [1, 99]"};
+      }
     } else if (arg == "--quiet") {
       no_value();
       args.quiet = true;
@@ -212,6 +222,7 @@ Arguments ParseArguments(int argc, char** argv) {
   if (args.help) return args;
   if (args.real_time && !args.mpc) throw UsageError{"--real-time needs --mpc"};
   if (args.keep_workers_awake && !args.mpc) throw UsageError{"--keep-workers-awake needs --mpc"};
+  if (args.realtime_priority && !args.mpc) throw UsageError{"--realtime-priority needs --mpc"};
   if (positional.empty()) throw UsageError{"missing CONFIG.yaml or example NAME"};
   if (positional.size() > 1) throw UsageError{"unexpected argument " + positional[1]};
   args.config = positional[0];
@@ -675,6 +686,10 @@ void WriteMpcSummaryJson(const Arguments& args, const ExampleConfig& config,
   json.Number(log.fraction_on_time());
   json.Key("plant_failure");
   json.String(log.failure);
+  json.Key("realtime_priority");
+  json.Int(mpc.closed_loop.realtime_priority);
+  json.Key("realtime_error");
+  json.String(log.realtime_error);
   json.Key("metrics");
   json.BeginObject();
   WriteMetrics(task, &json);
@@ -704,6 +719,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
   idto::MpcConfig mpc = idto::ParseMpcConfig(config);
   if (args.real_time) mpc.closed_loop.real_time = true;
   if (args.keep_workers_awake) mpc.closed_loop.keep_workers_awake = true;
+  if (args.realtime_priority) mpc.closed_loop.realtime_priority = *args.realtime_priority;
   idto::SolverOptions options = config.mpc_solver.value_or(config.solver);
   if (args.threads) options.num_threads = *args.threads;
   if (args.constraints) options.constraint_method = *args.constraints;
@@ -720,14 +736,20 @@ int RunMpc(const Arguments& args, const char* argv0) {
             << "  plant: " << mpc.plant << ", control rate " << mpc.controller.control_rate
             << " Hz, " << mpc.controller.iterations_per_step << " iteration(s) per step, "
             << mpc.closed_loop.duration << " s" << (mpc.closed_loop.real_time ? " (real time)" : "")
-            << (mpc.closed_loop.keep_workers_awake ? " (workers awake)" : "") << ", threads "
-            << options.num_threads << "\n";
+            << (mpc.closed_loop.keep_workers_awake ? " (workers awake)" : "")
+            << (mpc.closed_loop.realtime_priority > 0
+                    ? " (SCHED_FIFO " + std::to_string(mpc.closed_loop.realtime_priority) + ")"
+                    : "")
+            << ", threads " << options.num_threads << "\n";
   std::unique_ptr<idto::sim::Plant> plant = mpc.plant == "mujoco"
                                                 ? idto::sim::MakeMujocoPlant(model, mpc.mujoco)
                                                 : idto::sim::MakeBuiltinPlant(model, mpc.builtin);
   // The controller's problem (mpc.problem overrides, if any) also gives the plant's start.
   const idto::ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
   plant->Reset(problem.q_init, problem.v_init);
+  // SCHED_FIFO from before the first solve, so that the solver's worker threads start under it
+  // (measured steadier beside a busy process than workers switched at the loop's start).
+  idto::mpc::RealtimeScheduling realtime(mpc.closed_loop.realtime_priority);
   idto::mpc::Controller controller(model, problem, options, mpc.controller);
   const SolverSummary first =
       controller.Initialize(idto::examples::ClosedLoopInitialGuess(config), mpc.initial_iterations);
@@ -735,6 +757,9 @@ int RunMpc(const Arguments& args, const char* argv0) {
   const idto::mpc::ClosedLoopLog log =
       idto::mpc::RunClosedLoop(model, mpc.closed_loop, &controller, plant.get());
   const idto::examples::TaskResult task = idto::examples::EvaluateClosedLoopTask(config, log);
+  if (!log.realtime_error.empty()) {
+    std::cout << "  warning: real-time scheduling not granted: " << log.realtime_error << "\n";
+  }
   if (!log.failure.empty()) {
     std::cout << "  plant failed at t = " << log.failure_time << " s: " << log.failure << "\n";
   }

@@ -146,7 +146,8 @@ void BindClosedLoop(py::module_& m) {
       .def_readwrite("latency_jitter", &ClosedLoopOptions::latency_jitter)
       .def_readwrite("seed", &ClosedLoopOptions::seed)
       .def_readwrite("real_time", &ClosedLoopOptions::real_time)
-      .def_readwrite("keep_workers_awake", &ClosedLoopOptions::keep_workers_awake);
+      .def_readwrite("keep_workers_awake", &ClosedLoopOptions::keep_workers_awake)
+      .def_readwrite("realtime_priority", &ClosedLoopOptions::realtime_priority);
   py::class_<ClosedLoopLog>(m, "ClosedLoopLog", "What a closed-loop run recorded.")
       .def_property_readonly("t", [](const ClosedLoopLog& l) { return ToArray(l.t); })
       .def_property_readonly("q", [](const ClosedLoopLog& l) { return ToArray(l.q); })
@@ -162,6 +163,7 @@ void BindClosedLoop(py::module_& m) {
       .def_readonly("control_period", &ClosedLoopLog::control_period)
       .def_readonly("failure", &ClosedLoopLog::failure)
       .def_readonly("failure_time", &ClosedLoopLog::failure_time)
+      .def_readonly("realtime_error", &ClosedLoopLog::realtime_error)
       .def("mean_solve_time", &ClosedLoopLog::mean_solve_time)
       .def("max_solve_time", &ClosedLoopLog::max_solve_time)
       .def("percentile_solve_time", &ClosedLoopLog::percentile_solve_time, py::arg("p"))

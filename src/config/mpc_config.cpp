@@ -30,6 +30,7 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "latency_jitter",
                                            "real_time",
                                            "keep_workers_awake",
+                                           "realtime_priority",
                                            "sensor_noise",
                                            "seed",
                                            "kp",
@@ -64,7 +65,7 @@ MpcConfig DefaultMpcConfig(const Model& model, const ContactOptions& scene_conta
 }
 
 /// control_rate, iterations_per_step, duration, initial_iterations, plant, plant_time_step,
-/// real_time, keep_workers_awake and the MuJoCo friction keys.
+/// real_time, keep_workers_awake, realtime_priority and the MuJoCo friction keys.
 void ReadScalars(const MapReader& mpc, MpcConfig* m) {
   mpc::MpcOptions& c = m->controller;
   c.control_rate = mpc.Positive("control_rate", c.control_rate);
@@ -79,6 +80,12 @@ void ReadScalars(const MapReader& mpc, MpcConfig* m) {
   cl.duration = mpc.Positive("duration", cl.duration);
   cl.real_time = mpc.Bool("real_time", cl.real_time);
   cl.keep_workers_awake = mpc.Bool("keep_workers_awake", cl.keep_workers_awake);
+  cl.realtime_priority = mpc.Int("realtime_priority", cl.realtime_priority, 0);
+  if (cl.realtime_priority > 99) {
+    mpc.reader().FailValue(mpc.Get("realtime_priority"), mpc.Path("realtime_priority"),
+                           std::to_string(cl.realtime_priority),
+                           "0 (off) or a SCHED_FIFO priority in [1, 99]");
+  }
   if (cl.duration < cl.plant_time_step) {
     const bool given = mpc.Has("duration");
     mpc.reader().FailValue(

@@ -76,6 +76,17 @@ int NumThreadPoolWorkers();
 std::chrono::microseconds SetThreadPoolIdleYield(std::chrono::microseconds yield_time);
 /// The idle workers' current yield time (SetThreadPoolIdleYield).
 std::chrono::microseconds ThreadPoolIdleYield();
+/// Asks every pool worker, present and future, to run under the scheduling `policy`
+/// (SCHED_OTHER, SCHED_FIFO or SCHED_RR) at `priority` (0 for SCHED_OTHER): each applies it with
+/// pthread_setschedparam when it next wakes for a phase, so the first phase after the call may
+/// still run at the previous setting. Process-wide, last call wins (mpc::RealtimeScheduling
+/// keeps the calling thread and the workers alike). A worker that the OS refuses keeps its
+/// scheduling and records the error for TakeThreadPoolSchedulingError. Throws InvalidArgument
+/// for a negative policy or priority.
+void SetThreadPoolScheduling(int policy, int priority);
+/// The errno of the latest worker that could not apply a SetThreadPoolScheduling request since
+/// the last call (0: none), and resets it.
+int TakeThreadPoolSchedulingError();
 
 }  // namespace internal
 

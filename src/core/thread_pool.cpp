@@ -38,6 +38,9 @@
 #include <thread>
 #include <vector>
 
+#include <pthread.h>
+#include <sched.h>
+
 #include "core/parallel.hpp"
 
 namespace idto::internal {
@@ -50,6 +53,11 @@ constexpr int kSpinChecks = 256;
 constexpr std::chrono::microseconds kYieldTime{250};
 // The idle workers' yield time in microseconds (SetThreadPoolIdleYield).
 std::atomic<std::int64_t> idle_yield_us{kYieldTime.count()};
+// The scheduling the workers follow (SetThreadPoolScheduling): request count (32 bits) | policy
+// (16) | priority (16). Each worker applies a new request when it next wakes for a phase.
+std::atomic<std::uint64_t> scheduling_request{0};
+// errno of the latest worker that could not apply a request (0: none since the last take).
+std::atomic<int> scheduling_error{0};
 // Ranges longer than kChunksPerThread * participants are cut into chunks of several indices.
 constexpr int kChunksPerThread = 4;  // see parallel.hpp
 
@@ -219,14 +227,29 @@ void ThreadPool::StartWorkers(int count) {
   }
 }
 
+// Applies a scheduling request to the calling worker thread; a refusal is kept for
+// TakeThreadPoolSchedulingError.
+void ApplySchedulingRequest(std::uint64_t request) {
+  sched_param param{};
+  param.sched_priority = static_cast<int>(request & 0xFFFF);
+  const int policy = static_cast<int>((request >> 16) & 0xFFFF);
+  const int error = pthread_setschedparam(pthread_self(), policy, &param);
+  if (error != 0) scheduling_error.store(error, std::memory_order_relaxed);
+}
+
 void ThreadPool::WorkerLoop(Worker* worker, int thread) {
-  std::uint64_t seen = 0;
+  std::uint64_t seen = 0, applied = 0;
   for (;;) {
     worker->slot.WaitUntil(
         [&] { return worker->mailbox.load(std::memory_order_seq_cst) != seen; },
         std::chrono::microseconds(idle_yield_us.load(std::memory_order_relaxed)));
     seen = worker->mailbox.load(std::memory_order_seq_cst);
     if (seen == kStopGeneration) return;
+    const std::uint64_t request = scheduling_request.load(std::memory_order_acquire);
+    if (request != applied) {
+      ApplySchedulingRequest(request);
+      applied = request;
+    }
     if (wake_delay_ms_.load(std::memory_order_relaxed) > 0) DelayForTesting(worker);
     Participate(seen, thread);
   }
@@ -349,6 +372,24 @@ std::chrono::microseconds SetThreadPoolIdleYield(std::chrono::microseconds yield
   }
   return std::chrono::microseconds(idle_yield_us.exchange(yield_time.count()));
 }
+
+void SetThreadPoolScheduling(int policy, int priority) {
+  if (policy < 0 || policy > 0xFFFF) {
+    ThrowInvalidArgument("SetThreadPoolScheduling", "policy", std::to_string(policy),
+                         "SCHED_OTHER, SCHED_FIFO or SCHED_RR");
+  }
+  if (priority < 0 || priority > 0xFFFF) {
+    ThrowInvalidArgument("SetThreadPoolScheduling", "priority", std::to_string(priority),
+                         "a priority of `policy` (sched_get_priority_min/max)");
+  }
+  static std::atomic<std::uint64_t> count{0};
+  const std::uint64_t n = (count.fetch_add(1, std::memory_order_relaxed) + 1) & 0xFFFFFFFFu;
+  scheduling_request.store(
+      (n << 32) | (static_cast<std::uint64_t>(policy) << 16) | static_cast<std::uint64_t>(priority),
+      std::memory_order_release);
+}
+
+int TakeThreadPoolSchedulingError() { return scheduling_error.exchange(0); }
 
 std::chrono::microseconds ThreadPoolIdleYield() {
   return std::chrono::microseconds(idle_yield_us.load(std::memory_order_relaxed));

@@ -137,6 +137,11 @@ void CheckOptions(const ClosedLoopOptions& options) {
     ThrowInvalidArgument(kWhere, "options.log_every", std::to_string(options.log_every),
                          "at least 1");
   }
+  if (options.realtime_priority < 0 || options.realtime_priority > 99) {
+    ThrowInvalidArgument(kWhere, "options.realtime_priority",
+                         std::to_string(options.realtime_priority),
+                         "0 (off) or a SCHED_FIFO priority in [1, 99]");
+  }
 }
 
 /// The sum of the scripted disturbances acting at time t (body -1 when none does).
@@ -240,6 +245,7 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
   Eigen::VectorXd u_plant = u;
 
   const AwakeWorkers awake_workers(options.keep_workers_awake, period);
+  RealtimeScheduling realtime(options.realtime_priority);
   const Clock::time_point run_start = Clock::now();
   for (long step = 0; step < steps; ++step) {
     const double t = step * dt;
@@ -301,6 +307,7 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
     }
   }
   log.num_rejected_plans = controller->num_rejected_plans();
+  log.realtime_error = realtime.CheckWorkers();
   return log;
 }
 

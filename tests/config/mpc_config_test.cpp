@@ -247,5 +247,18 @@ TEST(MpcConfigTest, OrientationLeadAndMujocoFrictionKeys) {
          "is 'lots'; expected a number");
 }
 
+TEST(MpcConfigTest, RealtimePriorityKey) {
+  EXPECT_EQ(LoadText(MpcFile("  control_rate: 10\n")).mpc->closed_loop.realtime_priority, 0);
+  EXPECT_EQ(LoadText(MpcFile("  realtime_priority: 20\n")).mpc->closed_loop.realtime_priority, 20);
+  const std::string f = "rt_mpc.yaml";
+  EXPECT_THAT(LoadingFile(f, MpcFile("  realtime_priority: 100\n")),
+              ErrorAt(f, "mpc.realtime_priority", 17,
+                      "is 100; expected 0 (off) or a SCHED_FIFO priority in [1, 99]"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  realtime_priority: -1\n")),
+              ErrorAt(f, "mpc.realtime_priority", 17, "expected an integer >= 0"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  realtime_priority: high\n")),
+              ErrorAt(f, "mpc.realtime_priority", 17, "expected an integer"));
+}
+
 }  // namespace
 }  // namespace idto

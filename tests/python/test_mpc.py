@@ -109,7 +109,7 @@ def test_run_closed_loop_from_cpp(spinner):
     options.implicit_damping, options.log_every = True, 10
     options.plant_time_step = 1e-3
     assert options.real_time is False and options.latency_jitter == 0.0 and options.seed == 0
-    assert options.keep_workers_awake is False
+    assert options.keep_workers_awake is False and options.realtime_priority == 0
     options.real_time, options.latency_jitter, options.seed = True, 0.0, 3
     options.keep_workers_awake = True
     start = time.monotonic()
@@ -119,6 +119,7 @@ def test_run_closed_loop_from_cpp(spinner):
     assert log.v.shape == (20, 3) and log.contact.shape[0] == 20
     assert log.replan_time.shape == log.solve_time.shape and len(log.solve_status) == 39
     assert log.failure == "" and log.failure_time == -1.0 and log.num_rejected_plans == 0
+    assert log.realtime_error == ""  # no real-time scheduling asked for
     assert log.control_period == pytest.approx(0.005)
     assert 0 < log.mean_solve_time() <= log.max_solve_time()
     assert log.percentile_solve_time(95) <= log.max_solve_time()

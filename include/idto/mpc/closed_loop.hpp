@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "idto/mpc/controller.hpp"
+#include "idto/mpc/realtime.hpp"
 #include "idto/sim/plant.hpp"
 
 namespace idto::mpc {
@@ -86,6 +87,16 @@ struct ClosedLoopOptions {
   /// time get the largest of their requests, and the value from before returns when the last
   /// of them ends.
   bool keep_workers_awake{false};
+  /// 0 (default): the loop's thread and the solver's workers keep their scheduling. 1..99: for
+  /// the run they take SCHED_FIFO at this priority (RealtimeScheduling, idto/mpc/realtime.hpp),
+  /// ahead of every normally scheduled process, as a robot's control loop is usually run. A
+  /// refusal by the OS (no root, CAP_SYS_NICE or RLIMIT_RTPRIO) does not stop the run: it is
+  /// reported in ClosedLoopLog::realtime_error. A free-running loop at SCHED_FIFO leaves its
+  /// cores to other processes only through the kernel's real-time throttling (5 % of each
+  /// second by default); a paced loop (real_time) leaves them what it does not use. For the
+  /// steadiest re-plans, also hold a RealtimeScheduling of the same priority around the
+  /// controller's Initialize, as idto-run does, so the solver's workers start under it.
+  int realtime_priority{0};
 };
 
 /// What a closed-loop run recorded.
@@ -108,6 +119,9 @@ struct ClosedLoopLog {
   /// Empty unless the plant failed (threw from Advance); the run stopped at failure_time.
   std::string failure;
   double failure_time{-1.0};
+  /// With ClosedLoopOptions::realtime_priority: why SCHED_FIFO was not (fully) granted ("" when
+  /// it was, or was not asked for).
+  std::string realtime_error;
 
   double mean_solve_time() const;
   double max_solve_time() const;
