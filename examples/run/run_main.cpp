@@ -198,9 +198,10 @@ Arguments ParseArguments(int argc, char** argv) {
       args.keep_workers_awake = true;
     } else if (arg == "--realtime-priority") {
       args.realtime_priority = take_int(0);
-      if (*args.realtime_priority > 99) {
+      if (*args.realtime_priority > idto::mpc::kMaxRealtimePriority) {
         throw UsageError{"--realtime-priority is " + std::to_string(*args.realtime_priority) +
-                         "; expected 0 (off) or a SCHED_FIFO priority in [1, 99]"};
+                         "; expected 0 (off) or a SCHED_FIFO priority in [1, " +
+                         std::to_string(idto::mpc::kMaxRealtimePriority) + "]"};
       }
     } else if (arg == "--quiet") {
       no_value();

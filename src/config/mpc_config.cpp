@@ -12,6 +12,7 @@
 #include "config_loader.hpp"
 #include "idto/config/config.hpp"
 #include "idto/core/errors.hpp"
+#include "idto/mpc/realtime.hpp"
 #include "joint_vector_reader.hpp"
 
 namespace idto {
@@ -81,10 +82,11 @@ void ReadScalars(const MapReader& mpc, MpcConfig* m) {
   cl.real_time = mpc.Bool("real_time", cl.real_time);
   cl.keep_workers_awake = mpc.Bool("keep_workers_awake", cl.keep_workers_awake);
   cl.realtime_priority = mpc.Int("realtime_priority", cl.realtime_priority, 0);
-  if (cl.realtime_priority > 99) {
+  if (cl.realtime_priority > mpc::kMaxRealtimePriority) {
     mpc.reader().FailValue(mpc.Get("realtime_priority"), mpc.Path("realtime_priority"),
                            std::to_string(cl.realtime_priority),
-                           "0 (off) or a SCHED_FIFO priority in [1, 99]");
+                           "0 (off) or a SCHED_FIFO priority in [1, " +
+                               std::to_string(mpc::kMaxRealtimePriority) + "]");
   }
   if (cl.duration < cl.plant_time_step) {
     const bool given = mpc.Has("duration");

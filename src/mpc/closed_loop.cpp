@@ -137,10 +137,10 @@ void CheckOptions(const ClosedLoopOptions& options) {
     ThrowInvalidArgument(kWhere, "options.log_every", std::to_string(options.log_every),
                          "at least 1");
   }
-  if (options.realtime_priority < 0 || options.realtime_priority > 99) {
-    ThrowInvalidArgument(kWhere, "options.realtime_priority",
-                         std::to_string(options.realtime_priority),
-                         "0 (off) or a SCHED_FIFO priority in [1, 99]");
+  if (options.realtime_priority < 0 || options.realtime_priority > kMaxRealtimePriority) {
+    ThrowInvalidArgument(
+        kWhere, "options.realtime_priority", std::to_string(options.realtime_priority),
+        "0 (off) or a SCHED_FIFO priority in [1, " + std::to_string(kMaxRealtimePriority) + "]");
   }
 }
 

@@ -23,11 +23,10 @@ std::string Refusal(const std::string& who, int priority, int error) {
 
 RealtimeScheduling::RealtimeScheduling(int priority) : priority_(priority) {
   if (priority == 0) return;
-  const int max_priority = sched_get_priority_max(SCHED_FIFO);
-  if (priority < 1 || priority > max_priority) {
+  if (priority < 1 || priority > kMaxRealtimePriority) {
     ThrowInvalidArgument(
         "RealtimeScheduling", "priority", std::to_string(priority),
-        "0 (off) or a SCHED_FIFO priority in [1, " + std::to_string(max_priority) + "]");
+        "0 (off) or a SCHED_FIFO priority in [1, " + std::to_string(kMaxRealtimePriority) + "]");
   }
   sched_param old{};
   if (pthread_getschedparam(pthread_self(), &old_policy_, &old) != 0) {

@@ -62,7 +62,8 @@ Scheduling WorkerScheduling() {
 
 TEST(RealtimeScheduling, RejectsPrioritiesOutsideTheFifoRange) {
   EXPECT_THROW(mpc::RealtimeScheduling(-1), InvalidArgument);
-  EXPECT_THROW(mpc::RealtimeScheduling(sched_get_priority_max(SCHED_FIFO) + 1), InvalidArgument);
+  EXPECT_EQ(mpc::kMaxRealtimePriority, sched_get_priority_max(SCHED_FIFO));
+  EXPECT_THROW(mpc::RealtimeScheduling(mpc::kMaxRealtimePriority + 1), InvalidArgument);
   try {
     mpc::RealtimeScheduling scope(1000);
     FAIL() << "no exception";

@@ -24,6 +24,10 @@
 
 namespace idto::mpc {
 
+/// The largest SCHED_FIFO priority on Linux (sched_get_priority_max(SCHED_FIFO)): the upper
+/// bound of every real-time priority option (ClosedLoopOptions, YAML, idto-run).
+inline constexpr int kMaxRealtimePriority = 99;
+
 /// For its lifetime, the constructing thread and the solver's worker threads run under
 /// SCHED_FIFO at `priority`; the destructor returns the constructing thread to its previous
 /// scheduling and asks the workers to take that same scheduling. Workers apply a change when
@@ -33,8 +37,8 @@ namespace idto::mpc {
 class RealtimeScheduling {
  public:
   /// priority: 0 (nothing is changed: the scope is inactive) or a SCHED_FIFO priority in
-  /// [1, sched_get_priority_max(SCHED_FIFO)] (99 on Linux). Throws InvalidArgument outside that
-  /// range. A refusal by the OS does not throw: active() is false and error() says why.
+  /// [1, kMaxRealtimePriority]. Throws InvalidArgument outside that range. A refusal by the OS does
+  /// not throw: active() is false and error() says why.
   explicit RealtimeScheduling(int priority);
   ~RealtimeScheduling();
   RealtimeScheduling(const RealtimeScheduling&) = delete;
