@@ -62,7 +62,7 @@ CampaignSettings DefaultSettings(const std::string& example) {
       {"quadruped", {"body", 8.0, 2.5e-3, false}},        // 2 iterations per step: 2.5 ms
       {"quadruped_hills", {"body", 8.0, 4.5e-3, false}},  // 3 iterations: 1.5 ms measured
       {"hopper", {"body", 0.5, 6.0e-3, true}},
-      {"bimanual_lift", {"box", 6.0, 5.0e-3, false}},     // 5 iterations: 3.6-5.1 ms measured
+      {"bimanual_lift", {"box", 6.0, 5.0e-3, false}},  // 5 iterations: 3.6-5.1 ms measured
       {"allegro", {"ball", 0.05, 9.0e-3, false}},
   };
   const auto it = kRows.find(example);
