@@ -34,16 +34,11 @@ struct TauDerivatives {
 };
 
 // tau = ID(q, v, a) - sum J^T f over the pairs of `engine` listed in `pairs` (indices into
-// engine.pairs(); every pair must be analytic), by forward-mode AD over (q, v).
-inline TauDerivatives AutoDiffTauWithContact(const Model& model, const ContactEngine& engine,
-                                             const std::vector<int>& pairs,
-                                             const Eigen::VectorXd& q, const Eigen::VectorXd& v,
-                                             const Eigen::VectorXd& a) {
-  const int nq = model.nq(), nv = model.nv(), n = nq + nv;
-  VectorX<ADX> q_ad(nq), v_ad(nv), a_ad(nv);
-  for (int i = 0; i < nq; ++i) q_ad(i) = ADX(q(i), n, i);
-  for (int i = 0; i < nv; ++i) v_ad(i) = ADX(v(i), n, nq + i);
-  for (int i = 0; i < nv; ++i) a_ad(i) = ADX(a(i), Eigen::VectorXd::Zero(n));
+// engine.pairs(); every pair must be analytic), on AD scalars whose derivative vectors all have
+// `n` entries (any seeding).
+inline VectorX<ADX> TauWithContactAD(const Model& model, const ContactEngine& engine,
+                                     const std::vector<int>& pairs, const VectorX<ADX>& q_ad,
+                                     const VectorX<ADX>& v_ad, const VectorX<ADX>& a_ad, int n) {
   DataTpl<ADX> data(model);
   ForwardKinematics<ADX>(model, q_ad, v_ad, &data);
   BodyForcesTpl<ADX> F(6, model.num_bodies());
@@ -79,7 +74,20 @@ inline TauDerivatives AutoDiffTauWithContact(const Model& model, const ContactEn
     F.col(pair.body_a).template head<3>() -= r_A.cross(force.f);
     F.col(pair.body_a).template tail<3>() -= force.f;
   }
-  const VectorX<ADX>& tau = InverseDynamicsAfterKinematics<ADX>(model, v_ad, a_ad, &F, &data);
+  return InverseDynamicsAfterKinematics<ADX>(model, v_ad, a_ad, &F, &data);
+}
+
+// The same tau and its derivatives by forward-mode AD over (q, v).
+inline TauDerivatives AutoDiffTauWithContact(const Model& model, const ContactEngine& engine,
+                                             const std::vector<int>& pairs,
+                                             const Eigen::VectorXd& q, const Eigen::VectorXd& v,
+                                             const Eigen::VectorXd& a) {
+  const int nq = model.nq(), nv = model.nv(), n = nq + nv;
+  VectorX<ADX> q_ad(nq), v_ad(nv), a_ad(nv);
+  for (int i = 0; i < nq; ++i) q_ad(i) = ADX(q(i), n, i);
+  for (int i = 0; i < nv; ++i) v_ad(i) = ADX(v(i), n, nq + i);
+  for (int i = 0; i < nv; ++i) a_ad(i) = ADX(a(i), Eigen::VectorXd::Zero(n));
+  const VectorX<ADX> tau = TauWithContactAD(model, engine, pairs, q_ad, v_ad, a_ad, n);
   TauDerivatives out;
   out.tau.resize(nv);
   Eigen::MatrixXd J(nv, n);
