@@ -128,10 +128,10 @@ std::string SettingsText(const Context& context, int iterations) {
         "(`models/spinner_reference.urdf`, which lists the four differences) places the "
         "spinner so that the fingertip meets it about 56° off the finger's line, where "
         "idto's example (`models/spinner.urdf`) has the fingertip point at the spinner's "
-        "centre; its fingertip, spinner inertia and joint damping differ too. The reference "
-        "also sets the nominal velocity from the nominal positions (1 rad/s on the spinner), "
-        "where idto's spinner.yaml leaves it 0. We ran `examples/spinner/spinner.yaml` with "
-        "the reference's model, `v_nom: {spinner_axle: 1.0}`, k and v_s "
+        "centre; its fingertip, spinner inertia and joint damping differ too. The nominal "
+        "velocity is the reference's in both (1 rad/s on the spinner: the rate of the nominal "
+        "positions, `v_nom` in spinner.yaml). We ran `examples/spinner/spinner.yaml` with "
+        "the reference's model, k and v_s "
         "replaced and those settings: `constraint_method = kLagrangeMultipliers`, forward "
         "differences, `initial_trust_radius = 10`, `max_trust_radius = 1e5`, "
         "`acceptance_ratio = 0`, `fixed_iterations = true`, "
@@ -447,9 +447,8 @@ const char* const kDifferencesText =
 std::string ExampleModelText(const Grid& forward, const Grid& analytic,
                              const Grid& reference_analytic, int iterations) {
   std::ostringstream md;
-  md << "**The same grid on idto's spinner example** (`models/spinner.urdf` and spinner.yaml's "
-        "nominal velocity 0, everything else as above; Δ₀ = 10 only), to show how much the "
-        "model alone moves the table:\n\n"
+  md << "**The same grid on idto's spinner example** (`models/spinner.urdf`, everything else "
+        "as above; Δ₀ = 10 only), to show how much the model alone moves the table:\n\n"
      << NormTable(analytic, {10.0}, iterations) << "Cells at or below the paper's number: "
      << "forward differences " << CellsAtOrBelowPaper(forward) << " of 16, analytic derivatives "
      << CellsAtOrBelowPaper(analytic)
@@ -464,12 +463,10 @@ StudyResult RunSensitivityStudy(const Context& context) {
   StudyResult result;
   result.id = "sensitivity";
   result.title = "Contact stiffness × stiction velocity: the paper's Table 4 on the spinner";
-  // The paper's problem: the reference implementation's spinner model and nominal velocity.
-  const ExampleConfig config =
-      LoadEditedExample(context, "spinner",
-                        {{"urdf: spinner.urdf", "urdf: spinner_reference.urdf"},
-                         {"q_end: {spinner_axle: 2.0}\n",
-                          "q_end: {spinner_axle: 2.0}\n    v_nom: {spinner_axle: 1.0}\n"}});
+  // The paper's problem: the reference implementation's spinner model (spinner.yaml's nominal
+  // velocity is the reference's, 1 rad/s on the spinner).
+  const ExampleConfig config = LoadEditedExample(
+      context, "spinner", {{"urdf: spinner.urdf", "urdf: spinner_reference.urdf"}});
   const ExampleConfig example = LoadExample(context, "spinner");
   const int iterations = context.quick ? 100 : 500;
   // Initial trust radii of the spread (the paper's value first); quick mode runs only that one.
