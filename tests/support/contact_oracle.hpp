@@ -34,9 +34,9 @@ struct TauDerivatives {
 };
 
 // tau = ID(q, v, a) - sum J^T f over the pairs of `engine` listed in `pairs` (indices into
-// engine.pairs(); every pair must be analytic), on AD scalars whose derivative vectors all have
-// `n` entries (any seeding).
-inline VectorX<ADX> TauWithContactAD(const Model& model, const ContactEngine& engine,
+// engine.pairs(); every pair must be analytic; no engine: no contact), on AD scalars whose
+// derivative vectors all have `n` entries (any seeding).
+inline VectorX<ADX> TauWithContactAD(const Model& model, const ContactEngine* engine,
                                      const std::vector<int>& pairs, const VectorX<ADX>& q_ad,
                                      const VectorX<ADX>& v_ad, const VectorX<ADX>& a_ad, int n) {
   DataTpl<ADX> data(model);
@@ -47,7 +47,7 @@ inline VectorX<ADX> TauWithContactAD(const Model& model, const ContactEngine& en
   }
   const std::vector<GeometryInstance>& geos = model.geometries();
   for (int i : pairs) {
-    const ContactPair& pair = engine.pairs()[i];
+    const ContactPair& pair = engine->pairs()[i];
     const GeometryInstance& ga = geos[pair.geometry_a];
     const GeometryInstance& gb = geos[pair.geometry_b];
     const RigidTransformTpl<ADX> X_WGa =
@@ -87,7 +87,7 @@ inline TauDerivatives AutoDiffTauWithContact(const Model& model, const ContactEn
   for (int i = 0; i < nq; ++i) q_ad(i) = ADX(q(i), n, i);
   for (int i = 0; i < nv; ++i) v_ad(i) = ADX(v(i), n, nq + i);
   for (int i = 0; i < nv; ++i) a_ad(i) = ADX(a(i), Eigen::VectorXd::Zero(n));
-  const VectorX<ADX> tau = TauWithContactAD(model, engine, pairs, q_ad, v_ad, a_ad, n);
+  const VectorX<ADX> tau = TauWithContactAD(model, &engine, pairs, q_ad, v_ad, a_ad, n);
   TauDerivatives out;
   out.tau.resize(nv);
   Eigen::MatrixXd J(nv, n);

@@ -89,18 +89,8 @@ inline Eigen::VectorXd AutoDiffCostGradient(const Model& model, const ProblemDef
     const VectorX<ADX> v_k = k == 0 ? constant(problem.v_init) : velocity(q_k, q_prev);
     const VectorX<ADX> v_next = velocity(q_next, q_k);
     const VectorX<ADX> a_k = (v_next - v_k) / ADX(dt);
-    VectorX<ADX> tau;
-    if (engine) {
-      tau = TauWithContactAD(model, *engine, pairs, q_next, v_next, a_k, n);
-    } else {
-      DataTpl<ADX> data(model);
-      ForwardKinematics<ADX>(model, q_next, v_next, &data);
-      BodyForcesTpl<ADX> F(6, model.num_bodies());
-      for (int j = 0; j < F.cols(); ++j) {
-        for (int i = 0; i < 6; ++i) F(i, j) = ADX(0.0, Eigen::VectorXd::Zero(n));
-      }
-      tau = InverseDynamicsAfterKinematics<ADX>(model, v_next, a_k, &F, &data);
-    }
+    const VectorX<ADX> tau =
+        TauWithContactAD(model, engine ? &*engine : nullptr, pairs, q_next, v_next, a_k, n);
     const ADX running = ADX(0.5 * dt) * (weighted(problem.Qq, q_k, problem.q_nom[k]) +
                                          weighted(problem.Qv, v_k, problem.v_nom[k]) +
                                          weighted(R, tau, Eigen::VectorXd::Zero(nv)));
