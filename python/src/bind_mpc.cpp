@@ -24,11 +24,16 @@ void BindOptions(py::module_& m) {
       .def(py::init<>())
       .def_readwrite("position_start", &MpcOptions::OrientationLead::position_start)
       .def_readwrite("max_angle", &MpcOptions::OrientationLead::max_angle);
+  py::class_<MpcOptions::RelativeGoal>(m, "RelativeGoal")
+      .def(py::init<>())
+      .def_readwrite("position", &MpcOptions::RelativeGoal::position)
+      .def_readwrite("goal", &MpcOptions::RelativeGoal::goal);
   py::class_<MpcOptions>(m, "MpcOptions", "Options of the real-time-iteration controller.")
       .def(py::init<>())
       .def_readwrite("control_rate", &MpcOptions::control_rate)
       .def_readwrite("iterations_per_step", &MpcOptions::iterations_per_step)
       .def_readwrite("relative_positions", &MpcOptions::relative_positions)
+      .def_readwrite("relative_goals", &MpcOptions::relative_goals)
       .def_readwrite("orientation_leads", &MpcOptions::orientation_leads)
       .def_readwrite("gains", &MpcOptions::gains)
       .def_readwrite("actuated", &MpcOptions::actuated)

@@ -37,6 +37,7 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "kp",
                                            "kd",
                                            "relative",
+                                           "relative_goal",
                                            "orientation_lead",
                                            "builtin_contact",
                                            "mujoco_friction",
@@ -178,6 +179,37 @@ void ReadRelative(const MapReader& mpc, const Model& model, mpc::MpcOptions* c) 
   }
 }
 
+/// relative_goal: {joint: goal, or [goals]}: one goal per coordinate of the joint listed in
+/// `relative` (read before), in that order; a single number when there is one.
+void ReadRelativeGoals(const MapReader& mpc, const Model& model, mpc::MpcOptions* c) {
+  if (!mpc.Has("relative_goal")) return;
+  const Reader& r = mpc.reader();
+  const std::string path = mpc.Path("relative_goal");
+  const std::vector<MapEntry> entries =
+      r.Entries(mpc.Get("relative_goal"), path, "a map {joint: goal or [goals]}");
+  for (const MapEntry& e : entries) {
+    const std::string joint_path = Join(path, e.key);
+    std::vector<int> positions;  // the joint's relative coordinates, in `relative` order
+    if (model.HasJoint(e.key)) {
+      const JointIndex j = model.GetJointIndex(e.key);
+      const int start = model.position_start(j), end = start + model.joint_nq(j);
+      for (int p : c->relative_positions) {
+        if (p >= start && p < end) positions.push_back(p);
+      }
+    }
+    if (positions.empty()) {
+      r.FailValue(e.key_node, joint_path, "'" + e.key + "'", "a joint listed in mpc.relative");
+    }
+    const int n = static_cast<int>(positions.size());
+    if (e.value.IsScalar() && n == 1) {
+      c->relative_goals.push_back({positions[0], r.Double(e.value, joint_path)});
+      continue;
+    }
+    const Eigen::VectorXd goals = r.Vector(e.value, joint_path, n);
+    for (int k = 0; k < n; ++k) c->relative_goals.push_back({positions[k], goals(k)});
+  }
+}
+
 /// orientation_lead: {floating joint: largest lead angle in rad}.
 void ReadOrientationLeads(const MapReader& mpc, const Model& model, mpc::MpcOptions* c) {
   if (!mpc.Has("orientation_lead")) return;
@@ -255,6 +287,7 @@ MpcConfig ReadMpcConfig(const MapReader& mpc, const ExampleConfig& config) {
         gains.Read(mpc.Get("kd"), mpc.Path("kd"), Space::kVelocities, m.controller.gains.Kd, true);
   }
   ReadRelative(mpc, model, &m.controller);
+  ReadRelativeGoals(mpc, model, &m.controller);
   ReadOrientationLeads(mpc, model, &m.controller);
   ReadBuiltinContact(mpc, &m.builtin);
   ReadDisturbances(mpc, model, &m.closed_loop);

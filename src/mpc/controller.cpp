@@ -24,6 +24,24 @@ void MpcOptions::Validate(const Model& model) const {
                            "a position index in [0, " + std::to_string(model.nq()) + ")");
     }
   }
+  for (size_t k = 0; k < relative_goals.size(); ++k) {
+    const RelativeGoal& g = relative_goals[k];
+    const std::string name = "relative_goals[" + std::to_string(k) + "]";
+    if (std::find(relative_positions.begin(), relative_positions.end(), g.position) ==
+        relative_positions.end()) {
+      ThrowInvalidArgument(kWhere, name + ".position", std::to_string(g.position),
+                           "a position index listed in relative_positions");
+    }
+    for (size_t i = 0; i < k; ++i) {
+      if (relative_goals[i].position == g.position) {
+        ThrowInvalidArgument(kWhere, name + ".position", std::to_string(g.position),
+                             "a position without a goal in an earlier entry");
+      }
+    }
+    if (!std::isfinite(g.goal)) {
+      ThrowInvalidArgument(kWhere, name + ".goal", FormatValue(g.goal), "a finite position");
+    }
+  }
   for (size_t k = 0; k < orientation_leads.size(); ++k) {
     const OrientationLead& lead = orientation_leads[k];
     const std::string name = "orientation_leads[" + std::to_string(k) + "]";
@@ -149,6 +167,11 @@ SolverSummary Controller::Replan(double t, const Eigen::VectorXd& q_hat,
       q_nom_[k] = problem_.q_nom[k];
       for (int j : options_.relative_positions) {
         q_nom_[k](j) = q_hat(j) + (problem_.q_nom[k](j) - problem_.q_init(j));
+      }
+      for (const MpcOptions::RelativeGoal& g : options_.relative_goals) {
+        const int j = g.position;
+        const bool above = g.goal >= problem_.q_init(j);  // the goal's side, seen from the start
+        q_nom_[k](j) = above ? std::min(q_nom_[k](j), g.goal) : std::max(q_nom_[k](j), g.goal);
       }
     }
     for (const MpcOptions::OrientationLead& lead : options_.orientation_leads) {

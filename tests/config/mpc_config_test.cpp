@@ -213,6 +213,39 @@ TEST(MpcConfigTest, SpinnerKeysAndErrors) {
          "expected a joint name or {joint: [coordinate indices");
 }
 
+TEST(MpcConfigTest, RelativeGoalKeysAndErrors) {
+  int line = 0;
+  const ExampleConfig config = LoadExample(
+      "spinner", ExampleWithMpc("spinner",
+                                "  relative: [{spinner_axle: [0]}, finger_elbow]\n"
+                                "  relative_goal: {finger_elbow: [-1.5], spinner_axle: 2.5}\n",
+                                &line));
+  ASSERT_TRUE(config.mpc.has_value());
+  const std::vector<mpc::MpcOptions::RelativeGoal>& goals = config.mpc->controller.relative_goals;
+  ASSERT_EQ(goals.size(), 2u);
+  EXPECT_EQ(goals[0].position, config.model.GetPositionStart("finger_elbow"));
+  EXPECT_DOUBLE_EQ(goals[0].goal, -1.5);
+  EXPECT_EQ(goals[1].position, config.model.GetPositionStart("spinner_axle"));
+  EXPECT_DOUBLE_EQ(goals[1].goal, 2.5);
+  auto throws = [&](const std::string& lines, const std::string& key_path,
+                    const std::string& text) {
+    int first = 0;
+    const std::string yaml =
+        ExampleWithMpc("spinner", lines + "  relative: [spinner_axle]\n", &first);
+    EXPECT_THAT([&] { LoadExample("spinner", yaml); },
+                ErrorAt("spinner.yaml", key_path, first, text));
+  };
+  throws("  relative_goal: {finger_shoulder: 1}\n", "mpc.relative_goal.finger_shoulder",
+         "is 'finger_shoulder'; expected a joint listed in mpc.relative");
+  throws("  relative_goal: {no_joint: 1}\n", "mpc.relative_goal.no_joint",
+         "is 'no_joint'; expected a joint listed in mpc.relative");
+  throws("  relative_goal: {spinner_axle: [1, 2]}\n", "mpc.relative_goal.spinner_axle",
+         "expected a list of 1 number");
+  throws("  relative_goal: {spinner_axle: .inf}\n", "mpc.relative_goal.spinner_axle",
+         "expected a finite number");
+  throws("  relative_goal: [1]\n", "mpc.relative_goal", "expected a map {joint: goal or [goals]}");
+}
+
 TEST(MpcConfigTest, OrientationLeadAndMujocoFrictionKeys) {
   int line = 0;
   const ExampleConfig config =

@@ -193,6 +193,8 @@ TEST(ClosedLoopMujoco, QuadrupedWalksForward) {
 // portable kernels the 9 ms run flips; of the fixed latencies 1 to 9 ms, 8 of 9 succeeded on
 // either path (campaigns: docs/mpc.md). So the test asserts a rate over five fixed latencies: at
 // least 3 of 5 (when this was written: 5 of 5 with the final AVX2 kernels, 4 of 5 portable).
+// Since the controller's target stops at a goal 0.7 m from the start (session 25), every run
+// hops there in two flights and stands (0.62-0.67 m, 5 of 5 on both kernel paths): at least 4.
 TEST(ClosedLoopMujoco, HopperHopsForward) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
   int successes = 0;
@@ -203,7 +205,7 @@ TEST(ClosedLoopMujoco, HopperHopsForward) {
               << MetricValue(r, "max_pitch_change_rad") << " rad\n";
     if (r.task_success) ++successes;
   }
-  EXPECT_GE(successes, 3);
+  EXPECT_GE(successes, 4);
 }
 
 // Bi-manual lift: the box held >= 5 cm up over the last second, through the example's 10 N push.

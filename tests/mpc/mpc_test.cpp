@@ -1,6 +1,7 @@
 // MPC building blocks: cubic splines, PD+, the real-time-iteration controller's warm start.
 
 #include <cmath>
+#include <limits>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -156,6 +157,51 @@ TEST(Controller, RelativeNominalsMoveWithTheMeasuredState) {
   c.Initialize(std::vector<Eigen::VectorXd>(21, p.q_init), 5);
   c.Replan(0.05, Eigen::VectorXd::Constant(1, 0.7), Eigen::VectorXd::Zero(1));
   EXPECT_NEAR(c.optimizer().problem().q_nom[20](0), 2.7, 1e-15);
+}
+
+TEST(Controller, RelativeGoalsStopTheMovingNominal) {
+  const Model model = Pendulum();
+  ProblemDefinition p = SwingUp(model);
+  // Offsets 0 at knot 0 up to 2 rad at knot 20 ahead of the measured angle, stopped at 2.5 rad.
+  for (int k = 0; k <= 20; ++k) p.q_nom[k](0) = p.q_init(0) + 0.1 * k;
+  MpcOptions o;
+  o.relative_positions = {0};
+  o.relative_goals = {{0, 2.5}};
+  Controller c(model, p, SolverOptions{}, o);
+  c.Initialize(std::vector<Eigen::VectorXd>(21, p.q_init), 5);
+  c.Replan(0.05, Eigen::VectorXd::Constant(1, 0.7), Eigen::VectorXd::Zero(1));
+  const std::vector<Eigen::VectorXd>& q_nom = c.optimizer().problem().q_nom;
+  for (int k = 0; k <= 20; ++k) EXPECT_NEAR(q_nom[k](0), std::min(0.7 + 0.1 * k, 2.5), 1e-14);
+  // Past the goal, every knot's target is the goal (the robot is brought back).
+  c.Replan(0.1, Eigen::VectorXd::Constant(1, 3.0), Eigen::VectorXd::Zero(1));
+  for (int k = 0; k <= 20; ++k) EXPECT_EQ(c.optimizer().problem().q_nom[k](0), 2.5);
+  // Negative offsets stop at a goal below the start (q_init = 0).
+  for (int k = 0; k <= 20; ++k) p.q_nom[k](0) = p.q_init(0) - 0.1 * k;
+  o.relative_goals = {{0, -1.0}};
+  Controller d(model, p, SolverOptions{}, o);
+  d.Initialize(std::vector<Eigen::VectorXd>(21, p.q_init), 5);
+  d.Replan(0.05, Eigen::VectorXd::Constant(1, 0.2), Eigen::VectorXd::Zero(1));
+  for (int k = 0; k <= 20; ++k) {
+    EXPECT_NEAR(d.optimizer().problem().q_nom[k](0), std::max(0.2 - 0.1 * k, -1.0), 1e-14);
+  }
+}
+
+TEST(Controller, RelativeGoalsAreValidated) {
+  const Model model = Pendulum();
+  const ProblemDefinition p = SwingUp(model);
+  MpcOptions o;
+  o.relative_goals = {{0, 1.0}};  // position 0 is not relative
+  EXPECT_THAT(
+      [&] { Controller(model, p, SolverOptions{}, o); },
+      ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("relative_goals[0].position")));
+  o.relative_positions = {0};
+  o.relative_goals = {{0, 1.0}, {0, 2.0}};
+  EXPECT_THAT(
+      [&] { Controller(model, p, SolverOptions{}, o); },
+      ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("relative_goals[1].position")));
+  o.relative_goals = {{0, std::numeric_limits<double>::quiet_NaN()}};
+  EXPECT_THAT([&] { Controller(model, p, SolverOptions{}, o); },
+              ::testing::ThrowsMessage<std::invalid_argument>(HasSubstr("relative_goals[0].goal")));
 }
 
 TEST(LeadOrientation, TurnsTowardsTheTargetByAtMostTheLead) {

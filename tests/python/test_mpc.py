@@ -18,12 +18,29 @@ def test_mpc_options_and_pd():
     lead = idto.OrientationLead()
     lead.position_start, lead.max_angle = 0, 0.3
     o.orientation_leads = [lead]
+    goal = idto.RelativeGoal()
+    goal.position, goal.goal = 2, 0.7
+    o.relative_goals = [goal]
     g = idto.PdGains()
     g.Kp, g.Kd = [1.0, 2.0, 0.0], np.array([0.1, 0.2, 0.0])
     o.gains = g
     o.actuated = [0, 1]
     assert o.gains.Kp.tolist() == [1, 2, 0] and o.orientation_leads[0].max_angle == 0.3
     assert o.relative_positions == [2] and o.actuated == [0, 1] and o.control_rate == 50.0
+    assert o.relative_goals[0].position == 2 and o.relative_goals[0].goal == 0.7
+
+
+def test_relative_goals_are_validated(spinner):
+    o = idto.MpcOptions()
+    o.relative_positions = [2]
+    goal = idto.RelativeGoal()
+    goal.position, goal.goal = 1, 0.5  # the elbow is not a relative coordinate
+    o.relative_goals = [goal]
+    with pytest.raises(ValueError, match=r"relative_goals\[0\]\.position"):
+        o.validate(spinner.model)
+    goal.position = 2
+    o.relative_goals = [goal]
+    o.validate(spinner.model)
 
 
 def test_controller_and_plan(spinner):

@@ -38,6 +38,8 @@ struct MpcConfig {
 ///   kp, kd: a number for every DoF, a list of nv, or {default: x, joint: value or list},
 ///   relative: [joint names, or {joint: [coordinate indices within the joint]}] whose position
 ///     coordinates keep their nominal offsets from the measured state,
+///   relative_goal: {joint: goal or [goals]}: where those coordinates' targets stop, one goal
+///     per coordinate of the joint listed in `relative` (mpc::MpcOptions::relative_goals),
 ///   orientation_lead: {floating joint: angle in rad > 0}: the joint's nominal orientation is
 ///     the measured one turned towards the problem's nominal by at most that angle
 ///     (mpc::MpcOptions::orientation_leads),

@@ -31,6 +31,18 @@ struct MpcOptions {
   /// initial condition are kept (the spinner's target stays 2 rad ahead; a walking robot's
   /// target stays ahead of its base).
   std::vector<int> relative_positions;
+  /// Where a relative coordinate's target stops: for each entry, the nominal of position index
+  /// `position` (one of relative_positions) never lies beyond `goal` (absolute, in q's units),
+  /// seen from the problem's q_init0(j). At each re-plan and knot k, with d_k = qbar0_k(j) -
+  /// q_init0(j): qbar_k(j) = min(q_measured(j) + d_k, goal) when goal >= q_init0(j), and
+  /// max(q_measured(j) + d_k, goal) otherwise. So the target moves with the robot until it
+  /// reaches the goal and then stays there, also when the robot has passed it (the hopper hops
+  /// to a goal 0.7 m from its start and stands, instead of chasing a target that never stops).
+  struct RelativeGoal {
+    int position{0};   ///< a position index listed in relative_positions
+    double goal{0.0};  ///< finite
+  };
+  std::vector<RelativeGoal> relative_goals;
   /// Orientation targets approached at a bounded lead: for each entry, the nominal orientation
   /// of the floating joint whose quaternion starts at position index `position_start` is, at
   /// each re-plan and knot k, the measured orientation turned towards the problem's nominal

@@ -1,7 +1,8 @@
-// Heavy (ctest label "heavy"): the spinner and quadruped (flat and hills) campaigns of docs/mpc.md
-// ("Campaigns"), 50 runs each with the default hard conditions and seed 1, in process. The runs are
-// reproducible, so the counts are those of the table; the thresholds below sit under them so
-// that a regression of the controller (or of the campaign's conditions) fails here.
+// Heavy (ctest label "heavy"): the spinner, quadruped (flat and hills) and hopper campaigns of
+// docs/mpc.md ("Campaigns"), 50 runs each with the default hard conditions and seed 1, in
+// process. The runs are reproducible, so the counts are those of the table; the thresholds below
+// sit under them so that a regression of the controller (or of the campaign's conditions) fails
+// here.
 
 #include <gtest/gtest.h>
 
@@ -34,7 +35,9 @@ int CampaignSuccesses(const std::string& name, int runs, std::uint64_t seed) {
 
 TEST(CampaignHeavy, Spinner50Runs) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
-  EXPECT_GE(CampaignSuccesses("spinner", 50, 1), 20);
+  // docs/mpc.md: 48 of 50 at this seed with session 10's controller (2 rad/s target), 49 of 50
+  // at session 25's build; 26 of 50 before that controller.
+  EXPECT_GE(CampaignSuccesses("spinner", 50, 1), 45);
 }
 
 TEST(CampaignHeavy, Quadruped50Runs) {
@@ -47,6 +50,13 @@ TEST(CampaignHeavy, Quadruped50Runs) {
 TEST(CampaignHeavy, QuadrupedHills50Runs) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
   EXPECT_GE(CampaignSuccesses("quadruped_hills", 50, 1), 40);
+}
+
+TEST(CampaignHeavy, Hopper50Runs) {
+  if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
+  // docs/mpc.md: 37 of 50 at this seed with session 25's controller (its target stops at a goal
+  // 0.7 m from the start); 32 with session 21's, which this threshold would fail.
+  EXPECT_GE(CampaignSuccesses("hopper", 50, 1), 35);
 }
 
 }  // namespace
