@@ -237,6 +237,7 @@ RunResult RunOne(const CampaignSettings& settings, const ExampleConfig& config, 
   result.num_replans = static_cast<int>(log.solve_time.size());
   result.rejected_plans = log.num_rejected_plans;
   result.late_plans = log.num_late_plans;
+  result.skipped_replans = log.num_skipped_replans;
   result.nonfinite_commands = log.num_nonfinite_commands;
   result.plant_failure = log.failure;
   result.plant_failure_time = log.failure_time;

@@ -77,6 +77,9 @@ struct RunResult {
   int num_replans{0};
   int rejected_plans{0};
   int late_plans{0};
+  /// Control steps that started no re-plan: the solver was busy with a late one (an example
+  /// whose `mpc.late_plans` is use_on_arrival; mpc::ClosedLoopLog::num_skipped_replans).
+  int skipped_replans{0};
   int nonfinite_commands{0};
   std::string plant_failure;
   double plant_failure_time{-1.0};

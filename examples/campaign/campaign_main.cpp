@@ -311,7 +311,8 @@ void PrintRun(const RunResult& r) {
             << "): " << (r.success ? "success" : "failure: " + r.failure_mode) << "; push "
             << r.conditions.push_impulse << " N s at " << r.conditions.push_time << " s, friction x"
             << r.conditions.friction_scale << ", mass x" << r.conditions.total_mass_scale
-            << ", late " << r.late_plans << ", rejected " << r.rejected_plans << std::endl;
+            << ", late " << r.late_plans << ", skipped " << r.skipped_replans << ", rejected "
+            << r.rejected_plans << std::endl;
 }
 
 /// Runs runs [0, n) in child processes, `jobs` at a time; returns their merged results.

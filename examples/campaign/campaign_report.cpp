@@ -47,7 +47,7 @@ struct Summary {
   Interval interval;
   std::map<std::string, int> failure_modes;
   std::vector<Group> groups;
-  long long replans{0}, late{0}, rejected{0}, nonfinite{0};
+  long long replans{0}, late{0}, skipped{0}, rejected{0}, nonfinite{0};
   int runs_with_late{0};
 };
 
@@ -73,6 +73,7 @@ Summary Summarize(const CampaignSettings& settings, const std::vector<RunResult>
     }
     s.replans += r.num_replans;
     s.late += r.late_plans;
+    s.skipped += r.skipped_replans;
     s.rejected += r.rejected_plans;
     s.nonfinite += r.nonfinite_commands;
     s.runs_with_late += r.late_plans > 0 ? 1 : 0;
@@ -110,6 +111,7 @@ void WriteRun(const RunResult& r, std::ostream& out) {
       << ", \"initial_velocity_norm\": " << Num(c.initial_velocity_norm)
       << ", \"mass_scale\": " << NumList(c.mass_scale) << "},\n     \"replans\": " << r.num_replans
       << ", \"rejected_plans\": " << r.rejected_plans << ", \"late_plans\": " << r.late_plans
+      << ", \"skipped_replans\": " << r.skipped_replans
       << ", \"nonfinite_commands\": " << r.nonfinite_commands
       << ", \"plant_failure\": " << Quote(r.plant_failure)
       << ", \"plant_failure_time_s\": " << Num(r.plant_failure_time)
@@ -140,8 +142,8 @@ void WriteSummary(const Summary& s, std::ostream& out) {
   }
   out << "],\n    \"replans\": " << s.replans << ", \"late_plans\": " << s.late
       << ", \"runs_with_late_plans\": " << s.runs_with_late
-      << ", \"rejected_plans\": " << s.rejected << ", \"nonfinite_commands\": " << s.nonfinite
-      << "}\n";
+      << ", \"skipped_replans\": " << s.skipped << ", \"rejected_plans\": " << s.rejected
+      << ", \"nonfinite_commands\": " << s.nonfinite << "}\n";
 }
 
 // ------------------------------------------------------------------------------- reading
@@ -232,6 +234,8 @@ RunResult ReadRun(const YAML::Node& n, const std::string& file, const std::strin
   r.num_replans = As<int>(n, "replans", file, w);
   r.rejected_plans = As<int>(n, "rejected_plans", file, w);
   r.late_plans = As<int>(n, "late_plans", file, w);
+  // Absent in files written before the key existed (every late plan then was discarded).
+  r.skipped_replans = n["skipped_replans"] ? As<int>(n, "skipped_replans", file, w) : 0;
   r.nonfinite_commands = As<int>(n, "nonfinite_commands", file, w);
   r.plant_failure = As<std::string>(n, "plant_failure", file, w);
   r.plant_failure_time = Number(n, "plant_failure_time_s", file, w);
@@ -359,13 +363,14 @@ std::string CampaignMarkdown(const CampaignSettings& settings, const std::vector
               : std::string())
       << ".\n\n"
       << "| example | runs | successes | success rate | 95% Wilson interval | late re-plans "
-         "(runs with any) | rejected re-plans | non-finite commands |\n"
-      << "| --- | --- | --- | --- | --- | --- | --- | --- |\n"
+         "(runs with any) | skipped re-plans (solver busy) | rejected re-plans | non-finite "
+         "commands |\n"
+      << "| --- | --- | --- | --- | --- | --- | --- | --- | --- |\n"
       << "| " << settings.example << " | " << s.n << " | " << s.successes << " | "
       << Percent(s.n > 0 ? static_cast<double>(s.successes) / s.n : 0.0) << " | "
       << Percent(s.interval.low) << " - " << Percent(s.interval.high) << " | " << s.late << " of "
-      << s.replans << " (" << s.runs_with_late << ") | " << s.rejected << " | " << s.nonfinite
-      << " |\n\n";
+      << s.replans << " (" << s.runs_with_late << ") | " << s.skipped << " | " << s.rejected
+      << " | " << s.nonfinite << " |\n\n";
   out << "| failure mode | runs |\n| --- | --- |\n";
   if (s.failure_modes.empty()) out << "| (none) | 0 |\n";
   for (const auto& [mode, count] : s.failure_modes) out << "| " << mode << " | " << count << " |\n";

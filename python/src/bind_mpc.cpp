@@ -129,6 +129,9 @@ void BindClosedLoop(py::module_& m) {
       .value("kSolveTime", mpc::LatencyModel::kSolveTime)
       .value("kControlPeriod", mpc::LatencyModel::kControlPeriod)
       .value("kFixed", mpc::LatencyModel::kFixed);
+  py::enum_<mpc::LatePlanPolicy>(m, "LatePlanPolicy")
+      .value("kDiscard", mpc::LatePlanPolicy::kDiscard)
+      .value("kUseOnArrival", mpc::LatePlanPolicy::kUseOnArrival);
   py::class_<mpc::Disturbance>(m, "Disturbance", "A scripted push on a body (world frame, N).")
       .def(py::init<>())
       .def_readwrite("body", &mpc::Disturbance::body)
@@ -149,6 +152,7 @@ void BindClosedLoop(py::module_& m) {
       .def_readwrite("implicit_damping", &ClosedLoopOptions::implicit_damping)
       .def_readwrite("log_every", &ClosedLoopOptions::log_every)
       .def_readwrite("latency_jitter", &ClosedLoopOptions::latency_jitter)
+      .def_readwrite("late_plans", &ClosedLoopOptions::late_plans)
       .def_readwrite("seed", &ClosedLoopOptions::seed)
       .def_readwrite("real_time", &ClosedLoopOptions::real_time)
       .def_readwrite("keep_workers_awake", &ClosedLoopOptions::keep_workers_awake)
@@ -165,6 +169,9 @@ void BindClosedLoop(py::module_& m) {
                              [](const ClosedLoopLog& l) { return ToArray(l.solve_time); })
       .def_readonly("solve_status", &ClosedLoopLog::solve_status)
       .def_readonly("num_rejected_plans", &ClosedLoopLog::num_rejected_plans)
+      .def_readonly("num_late_plans", &ClosedLoopLog::num_late_plans)
+      .def_readonly("num_skipped_replans", &ClosedLoopLog::num_skipped_replans)
+      .def_readonly("num_nonfinite_commands", &ClosedLoopLog::num_nonfinite_commands)
       .def_readonly("control_period", &ClosedLoopLog::control_period)
       .def_readonly("failure", &ClosedLoopLog::failure)
       .def_readonly("failure_time", &ClosedLoopLog::failure_time)

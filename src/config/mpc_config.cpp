@@ -29,6 +29,7 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "plant_time_step",
                                            "latency",
                                            "latency_jitter",
+                                           "late_plans",
                                            "real_time",
                                            "keep_workers_awake",
                                            "realtime_priority",
@@ -104,8 +105,12 @@ void ReadScalars(const MapReader& mpc, MpcConfig* m) {
       mpc.NonNegative("mujoco_rolling_friction", m->mujoco.rolling_friction);
 }
 
-/// latency: solve_time, control_period, or a fixed delay in seconds (reproducible runs).
+/// latency: solve_time, control_period, or a fixed delay in seconds (reproducible runs);
+/// late_plans: discard or use_on_arrival (mpc::LatePlanPolicy).
 void ReadLatency(const MapReader& mpc, mpc::ClosedLoopOptions* cl) {
+  const std::vector<std::string> late = {"discard", "use_on_arrival"};
+  cl->late_plans = static_cast<mpc::LatePlanPolicy>(
+      mpc.Enum("late_plans", late, static_cast<int>(cl->late_plans)));
   if (!mpc.Has("latency")) return;
   const YAML::Node node = mpc.Get("latency");
   const std::string expected = "solve_time, control_period or a delay in seconds >= 0";

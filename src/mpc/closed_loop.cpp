@@ -211,6 +211,48 @@ void SleepUntil(Clock::time_point start, double t) {
       start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(t)));
 }
 
+/// The plans of a closed-loop run: the one in force, the one waiting for its activation time
+/// (latency model) and, with LatePlanPolicy::kUseOnArrival, when the solver is free again.
+struct PlanSchedule {
+  Plan active;
+  Plan pending;
+  double pending_at{-1.0};
+  double solver_busy_until{-1.0};
+};
+
+/// The re-plan of the control step at time t: runs it (or, while the solver is still busy with a
+/// late re-plan, skips it), logs it and schedules its plan by the latency model.
+void ReplanStep(const ClosedLoopOptions& options, double t, double period, double dt,
+                Clock::time_point run_start, const Eigen::VectorXd& q_hat,
+                const Eigen::VectorXd& v_hat, std::mt19937_64* rng, Controller* controller,
+                PlanSchedule* plans, ClosedLoopLog* log) {
+  if (t + 1e-12 < plans->solver_busy_until) {
+    ++log->num_skipped_replans;
+    return;
+  }
+  if (options.real_time) SleepUntil(run_start, t);
+  const Clock::time_point t0 = Clock::now();
+  const SolverSummary s = controller->Replan(t, q_hat, v_hat);
+  const double solve = std::chrono::duration<double>(Clock::now() - t0).count();
+  log->replan_time.push_back(t);
+  log->solve_time.push_back(solve);
+  log->solve_status.push_back(static_cast<int>(s.termination));
+  double delay = options.latency == LatencyModel::kSolveTime ? solve
+                 : options.latency == LatencyModel::kFixed   ? options.fixed_latency
+                                                             : period;
+  if (options.latency_jitter > 0.0) delay += options.latency_jitter * UniformDraw(rng);
+  const bool late = delay > period + 1e-12;
+  const bool use_late = options.late_plans == LatePlanPolicy::kUseOnArrival;
+  if (late && use_late) plans->solver_busy_until = t + delay;  // no re-plan starts before then
+  if (s.termination == TerminationType::kFailure) {
+    return;  // rejected by the controller (counted there): the plan in force stays
+  }
+  if (late) ++log->num_late_plans;
+  if (late && !use_late) return;  // too late to be used: the plan in force stays
+  plans->pending = controller->plan();
+  plans->pending_at = t + std::max(delay, dt);
+}
+
 }  // namespace
 
 ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options,
@@ -224,10 +266,8 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
   const long steps_per_replan = std::max(1L, static_cast<long>(std::llround(period / dt)));
   std::mt19937_64 rng(options.seed);
 
-  // The plan in force, and the one waiting for its activation time (latency model).
-  Plan active = controller->plan();
-  Plan pending;
-  double pending_at = -1.0;
+  PlanSchedule plans;
+  plans.active = controller->plan();
   PdGains gains = controller->options().gains;
   if (gains.Kp.size() == 0) gains.Kp = Eigen::VectorXd::Zero(model.nv());
   if (gains.Kd.size() == 0) gains.Kd = Eigen::VectorXd::Zero(model.nv());
@@ -252,32 +292,14 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
     MeasureState(model, plant->q(), plant->v(), options.sensor_noise, &rng, &q_hat, &v_hat);
     // A plan due now takes over before a re-plan at this step replaces the pending one (a
     // latency of exactly one control period activates at the next re-plan's step).
-    if (pending_at >= 0.0 && t + 1e-12 >= pending_at) {
-      active = pending;
-      pending_at = -1.0;
+    if (plans.pending_at >= 0.0 && t + 1e-12 >= plans.pending_at) {
+      plans.active = plans.pending;
+      plans.pending_at = -1.0;
     }
     if (step % steps_per_replan == 0 && step > 0) {
-      if (options.real_time) SleepUntil(run_start, t);
-      const Clock::time_point t0 = Clock::now();
-      const SolverSummary s = controller->Replan(t, q_hat, v_hat);
-      const double solve = std::chrono::duration<double>(Clock::now() - t0).count();
-      log.replan_time.push_back(t);
-      log.solve_time.push_back(solve);
-      log.solve_status.push_back(static_cast<int>(s.termination));
-      double delay = options.latency == LatencyModel::kSolveTime ? solve
-                     : options.latency == LatencyModel::kFixed   ? options.fixed_latency
-                                                                 : period;
-      if (options.latency_jitter > 0.0) delay += options.latency_jitter * UniformDraw(&rng);
-      if (s.termination == TerminationType::kFailure) {
-        // Rejected by the controller (counted there); the plan in force stays.
-      } else if (delay > period + 1e-12) {
-        ++log.num_late_plans;  // too late to be used: the plan in force stays
-      } else {
-        pending = controller->plan();
-        pending_at = t + std::max(delay, dt);
-      }
+      ReplanStep(options, t, period, dt, run_start, q_hat, v_hat, &rng, controller, &plans, &log);
     }
-    active.Sample(model, t, &q_d, &v_d, &u_ff);
+    plans.active.Sample(model, t, &q_d, &v_d, &u_ff);
     pd.Compute(q_hat, v_hat, q_d, v_d, u_ff, &u);
     if (u.allFinite()) {
       u_last = u;

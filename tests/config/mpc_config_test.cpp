@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include "config_test_helpers.hpp"
 #include "idto/config/config.hpp"
 #include "idto/core/errors.hpp"
@@ -34,9 +36,14 @@ std::string MpcFile(const std::string& lines) {
   return kBase + "mpc:\n  plant: builtin\n  duration: 1.0\n" + lines;
 }
 
-/// Writes `text` to a file of the test's temporary folder; returns its path.
+/// Writes `text` to a file `name` in a folder of this test process; returns its path. (ctest
+/// runs the tests as parallel processes: a shared folder let two tests overwrite each other's
+/// file between writing and loading it.)
 std::string WriteFile(const std::string& name, const std::string& text) {
-  const std::string path = ::testing::TempDir() + "/" + name;
+  const std::filesystem::path dir = std::filesystem::path(::testing::TempDir()) /
+                                    ("idto_mpc_config_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / name).string();
   std::ofstream(path) << text;
   return path;
 }
@@ -59,6 +66,7 @@ TEST(MpcConfigTest, ReadWithTheFile) {
   const ExampleConfig config = LoadText(MpcFile(
       "  control_rate: 50\n  iterations_per_step: 3\n  initial_iterations: 0\n"
       "  kp: {default: 1, elbow: 4}\n  kd: [0.5, 0.25]\n  latency: 0.002\n"
+      "  late_plans: use_on_arrival\n"
       "  disturbances: [{body: lower_link, start: 0.5, duration: 0.1, force: [0, 1, 0]}]\n"));
   ASSERT_TRUE(config.mpc.has_value());
   const MpcConfig& m = *config.mpc;
@@ -72,6 +80,7 @@ TEST(MpcConfigTest, ReadWithTheFile) {
   EXPECT_DOUBLE_EQ(m.controller.gains.Kd(1), 0.25);
   EXPECT_EQ(m.closed_loop.latency, mpc::LatencyModel::kFixed);
   EXPECT_DOUBLE_EQ(m.closed_loop.fixed_latency, 0.002);
+  EXPECT_EQ(m.closed_loop.late_plans, mpc::LatePlanPolicy::kUseOnArrival);
   ASSERT_EQ(m.closed_loop.disturbances.size(), 1u);
   EXPECT_EQ(m.closed_loop.disturbances[0].body, config.model.GetBodyIndex("lower_link"));
   // ParseMpcConfig gives the section as read.
@@ -85,6 +94,7 @@ TEST(MpcConfigTest, DefaultsWithoutTheSection) {
   EXPECT_EQ(m.controller.gains.Kp.size(), config.model.nv());
   EXPECT_EQ(m.controller.iterations_per_step, 1);
   EXPECT_EQ(m.initial_iterations, 50);
+  EXPECT_EQ(m.closed_loop.late_plans, mpc::LatePlanPolicy::kDiscard);
   EXPECT_EQ(m.mujoco.friction_coefficient, config.problem.contact.parameters.friction_coefficient);
 }
 
@@ -196,6 +206,8 @@ TEST(MpcConfigTest, SpinnerKeysAndErrors) {
   };
   throws("  control_rate: -5\n", "mpc.control_rate", "is -5; expected a finite positive number");
   throws("  plant: gazebo\n", "mpc.plant", "is 'gazebo'; expected one of mujoco, builtin");
+  throws("  late_plans: keep\n", "mpc.late_plans",
+         "is 'keep'; expected one of discard, use_on_arrival");
   throws("  no_such_key: 1\n", "mpc.no_such_key", "unknown key");
   throws("  relative: [elbow]\n", "mpc.relative[0]", "is 'elbow'; expected a joint of the scene");
   throws("  kp: [1, 2]\n", "mpc.kp", "is a list of 2 entries [1, 2]; expected a list of nv = 3");

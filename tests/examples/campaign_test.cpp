@@ -250,6 +250,47 @@ TEST(ClosedLoopConditions, LatePlansAreDiscardedAndCounted) {
   }
 }
 
+TEST(ClosedLoopConditions, LatePlansUsedOnArrivalTakeOverWhenTheyArrive) {
+  // On time (4 ms at the 5 ms period), both policies run the same loop, bit for bit.
+  mpc::ClosedLoopOptions cl = FixedLatencyOptions(0.1, 4e-3);
+  const mpc::ClosedLoopLog discard = RunSpinner(cl);
+  cl.late_plans = mpc::LatePlanPolicy::kUseOnArrival;
+  const mpc::ClosedLoopLog arrival = RunSpinner(cl);
+  ASSERT_EQ(arrival.q.size(), discard.q.size());
+  for (size_t k = 0; k < arrival.q.size(); ++k) ASSERT_EQ(arrival.u[k], discard.u[k]) << k;
+  EXPECT_EQ(arrival.num_skipped_replans, 0);
+
+  // 6 ms: every re-plan is late. The one at 5 ms drives the plant from 11 ms on; the control
+  // step at 10 ms finds the solver busy, so the next re-plan is at 15 ms.
+  cl.fixed_latency = 6e-3;
+  const mpc::ClosedLoopLog late = RunSpinner(cl);
+  ASSERT_EQ(late.replan_time.size(), 10u);
+  for (size_t i = 0; i < late.replan_time.size(); ++i) {
+    EXPECT_NEAR(late.replan_time[i], 0.005 + 0.01 * static_cast<double>(i), 1e-12) << i;
+  }
+  EXPECT_EQ(late.num_late_plans, 10);
+  EXPECT_EQ(late.num_skipped_replans, 9);
+  // The plan in force, rebuilt by a second controller from the logged state at 5 ms (no noise:
+  // the controller measured exactly that state): the initial plan up to 10 ms, then the re-plan's.
+  const ExampleConfig config = Load("spinner");
+  mpc::Controller controller(config.model, config.problem, config.solver,
+                             ParseMpcConfig(config).controller);
+  controller.Initialize(MakeInitialGuess(config), 20);
+  const mpc::Plan initial = controller.plan();
+  controller.Replan(0.005, late.q[5], late.v[5]);
+  Eigen::VectorXd q_d, v_d, u_ff;
+  for (int k : {5, 10}) {
+    initial.Sample(config.model, late.t[k], &q_d, &v_d, &u_ff);
+    EXPECT_EQ(late.q_plan[k], q_d) << "t = " << late.t[k];
+  }
+  for (int k : {11, 14, 20}) {
+    controller.plan().Sample(config.model, late.t[k], &q_d, &v_d, &u_ff);
+    EXPECT_EQ(late.q_plan[k], q_d) << "t = " << late.t[k];
+  }
+  initial.Sample(config.model, late.t[11], &q_d, &v_d, &u_ff);
+  EXPECT_NE(late.q_plan[11], q_d);
+}
+
 TEST(ClosedLoopConditions, RealTimeAndAwakeWorkersChangeNothingButTheTiming) {
   mpc::ClosedLoopOptions cl = FixedLatencyOptions(0.3, 1e-3);
   const mpc::ClosedLoopLog free_running = RunSpinner(cl);

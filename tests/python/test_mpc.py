@@ -111,12 +111,16 @@ def test_plants(spinner):
             idto.make_mujoco_plant(model, mj)
 
 
-def test_run_closed_loop_from_cpp(spinner):
-    ex = spinner
+def _spinner_loop(ex):
+    """The spinner's controller (20 initial iterations), plant and closed-loop options."""
     ctl = idto.Controller(ex.model, ex.mpc_problem, ex.mpc_solver_options, ex.mpc.controller)
     ctl.initialize(ex.controller_initial_guess(), 20)
-    plant = ex.make_plant()
-    options = ex.mpc.closed_loop
+    return ctl, ex.make_plant(), ex.mpc.closed_loop
+
+
+def test_run_closed_loop_from_cpp(spinner):
+    ex = spinner
+    ctl, plant, options = _spinner_loop(ex)
     options.duration = 0.2
     options.latency = idto.LatencyModel.kFixed
     options.fixed_latency = 0.005
@@ -136,12 +140,29 @@ def test_run_closed_loop_from_cpp(spinner):
     assert log.v.shape == (20, 3) and log.contact.shape[0] == 20
     assert log.replan_time.shape == log.solve_time.shape and len(log.solve_status) == 39
     assert log.failure == "" and log.failure_time == -1.0 and log.num_rejected_plans == 0
+    # 5 ms latency at a 5 ms period: on time, so nothing is late, skipped or replaced.
+    assert options.late_plans == idto.LatePlanPolicy.kDiscard
+    assert log.num_late_plans == 0 and log.num_skipped_replans == 0
+    assert log.num_nonfinite_commands == 0
     assert log.realtime_error == ""  # no real-time scheduling asked for
     assert log.control_period == pytest.approx(0.005)
     assert 0 < log.mean_solve_time() <= log.max_solve_time()
     assert log.percentile_solve_time(95) <= log.max_solve_time()
     assert 0.0 <= log.fraction_on_time() <= 1.0
     assert log.to_csv(ex.model).startswith("t,")
+
+
+def test_late_plans_used_on_arrival_skip_the_busy_steps(spinner):
+    ex = spinner
+    ctl, plant, options = _spinner_loop(ex)
+    options.duration, options.log_every = 0.1, 1
+    options.latency, options.fixed_latency = idto.LatencyModel.kFixed, 0.006  # period: 5 ms
+    options.late_plans = idto.LatePlanPolicy.kUseOnArrival
+    log = idto.run_closed_loop(ex.model, options, ctl, plant)
+    # Re-plans at 5, 15, 25, ... ms; the steps at 10, 20, ... ms find the solver busy.
+    n = len(log.replan_time)
+    assert n == 10 and log.replan_time[1] == pytest.approx(0.015)
+    assert log.num_late_plans == n and log.num_skipped_replans == 9
 
 
 def test_closed_loop_written_in_python_achieves_the_spinner_task():

@@ -24,6 +24,18 @@ enum class LatencyModel {
   kFixed           ///< t + ClosedLoopOptions::fixed_latency: reproducible runs (tests, sweeps)
 };
 
+/// What happens to a re-plan whose latency exceeds the control period (a *late* re-plan).
+enum class LatePlanPolicy {
+  /// The late plan is discarded and the plan in force stays; the next re-plan starts at the next
+  /// control step as usual (as if each re-plan ran on its own solver).
+  kDiscard,
+  /// One solver, run asynchronously as the paper's MPC runs: the plan in force stays until the
+  /// late plan arrives (t + its latency), which then takes over; the control steps that find the
+  /// solver still busy start no re-plan (ClosedLoopLog::num_skipped_replans), and the next one
+  /// starts at the first control step after the late plan arrived.
+  kUseOnArrival
+};
+
 /// A scripted external push on the plant.
 struct Disturbance {
   int body{-1};                                      ///< idto body index (-1: none)
@@ -56,9 +68,12 @@ struct ClosedLoopOptions {
   double fixed_latency{0.0};  ///< s, >= 0: the delay of LatencyModel::kFixed
   /// s, >= 0: each re-plan's latency is the latency model's value plus a draw from
   /// uniform [0, latency_jitter]. A re-plan whose latency exceeds the control period is late:
-  /// its plan is discarded (the previous one stays in force) and counted
-  /// (ClosedLoopLog::num_late_plans).
+  /// it is counted (ClosedLoopLog::num_late_plans), the previous plan stays in force at the
+  /// control step it missed, and `late_plans` says what happens to it.
   double latency_jitter{0.0};
+  /// What a late re-plan's plan does: discarded (default), or used when it arrives by a solver
+  /// that starts no other re-plan meanwhile.
+  LatePlanPolicy late_plans{LatePlanPolicy::kDiscard};
   /// Noise on the measured state used by the controller (re-plans and the PD+ command).
   SensorNoise sensor_noise;
   /// Seed of the closed loop's random numbers (sensor noise, latency jitter; std::mt19937_64):
@@ -110,8 +125,12 @@ struct ClosedLoopLog {
   std::vector<double> solve_time;   ///< wall-clock seconds of each re-plan
   std::vector<int> solve_status;    ///< TerminationType of each re-plan
   int num_rejected_plans{0};        ///< re-plans that failed or produced a non-finite plan
-  /// Re-plans whose latency (model + jitter) exceeded the control period: discarded.
+  /// Re-plans whose latency (model + jitter) exceeded the control period (discarded, or used on
+  /// arrival: ClosedLoopOptions::late_plans).
   int num_late_plans{0};
+  /// Control steps that started no re-plan because the solver was still busy with a late one
+  /// (LatePlanPolicy::kUseOnArrival only; 0 otherwise). Not in replan_time / solve_time.
+  int num_skipped_replans{0};
   /// Plant steps at which the PD+ command was not finite (non-finite measurement or plan): the
   /// last finite command (zero at the start) was applied instead.
   int num_nonfinite_commands{0};
