@@ -43,7 +43,7 @@
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "idto/viz/html_animation.hpp"
 #include "idto_build_paths.hpp"
-#include "run/json_text.hpp"
+#include "run/json_writer.hpp"
 #include "run/metrics.hpp"
 #include "run/metrics_closed_loop.hpp"
 #include "run/outputs.hpp"
@@ -56,6 +56,7 @@ using idto::ExampleConfig;
 using idto::IterationSummary;
 using idto::SolverSummary;
 using idto::Trajectory;
+using idto::examples::JsonWriter;
 
 constexpr int kExitOk = 0;
 constexpr int kExitError = 1;
@@ -126,6 +127,22 @@ bool ParseInt(const std::string& text, int* value) {
   return true;
 }
 
+/// The value of --constraints.
+ConstraintMethod ParseConstraintMethod(const std::string& text) {
+  if (text == "none") return ConstraintMethod::kNone;
+  if (text == "penalty") return ConstraintMethod::kPenalty;
+  if (text == "lagrange") return ConstraintMethod::kLagrangeMultipliers;
+  throw UsageError{"--constraints is '" + text + "'; expected none, penalty or lagrange"};
+}
+
+/// The value of --derivatives.
+DerivativeMethod ParseDerivativeMethod(const std::string& text) {
+  if (text == "analytic") return DerivativeMethod::kAnalytic;
+  if (text == "forward") return DerivativeMethod::kForwardDifferences;
+  if (text == "central") return DerivativeMethod::kCentralDifferences;
+  throw UsageError{"--derivatives is '" + text + "'; expected analytic, forward or central"};
+}
+
 Arguments ParseArguments(int argc, char** argv) {
   Arguments args;
   std::vector<std::string> positional;
@@ -166,27 +183,9 @@ Arguments ParseArguments(int argc, char** argv) {
     } else if (arg == "--threads") {
       args.threads = take_int(1);
     } else if (arg == "--constraints") {
-      const std::string text = take_value();
-      if (text == "none") {
-        args.constraints = ConstraintMethod::kNone;
-      } else if (text == "penalty") {
-        args.constraints = ConstraintMethod::kPenalty;
-      } else if (text == "lagrange") {
-        args.constraints = ConstraintMethod::kLagrangeMultipliers;
-      } else {
-        throw UsageError{"--constraints is '" + text + "'; expected none, penalty or lagrange"};
-      }
+      args.constraints = ParseConstraintMethod(take_value());
     } else if (arg == "--derivatives") {
-      const std::string text = take_value();
-      if (text == "analytic") {
-        args.derivatives = DerivativeMethod::kAnalytic;
-      } else if (text == "forward") {
-        args.derivatives = DerivativeMethod::kForwardDifferences;
-      } else if (text == "central") {
-        args.derivatives = DerivativeMethod::kCentralDifferences;
-      } else {
-        throw UsageError{"--derivatives is '" + text + "'; expected analytic, forward or central"};
-      }
+      args.derivatives = ParseDerivativeMethod(take_value());
     } else if (arg == "--mpc") {
       no_value();
       args.mpc = true;
@@ -272,98 +271,6 @@ void PrintTableRow(std::ostream& out, const IterationSummary& it) {
 }
 
 // ---------------------------------------------------------------------------- JSON
-
-/// A minimal JSON writer: objects and arrays with commas handled, strings escaped, non-finite
-/// numbers written as null.
-class JsonWriter {
- public:
-  std::string str() const { return out_.str(); }
-
-  void BeginObject() { Open('{'); }
-  void EndObject() { Close('}'); }
-  void BeginArray() { Open('['); }
-  void EndArray() { Close(']'); }
-  void Key(const std::string& key) {
-    Separate();
-    Indent();
-    out_ << Quote(key) << ": ";
-    after_key_ = true;
-  }
-  void String(const std::string& s) { Value(Quote(s)); }
-  void Number(double x) { Value(FormatNumber(x)); }
-  void Int(long long n) { Value(std::to_string(n)); }
-  void Bool(bool b) { Value(b ? "true" : "false"); }
-  void NumberArray(const std::vector<double>& xs) {
-    Separate();
-    if (!after_key_) Indent();
-    after_key_ = false;
-    out_ << '[';
-    for (std::size_t i = 0; i < xs.size(); ++i) out_ << (i ? ", " : "") << FormatNumber(xs[i]);
-    out_ << ']';
-    need_comma_ = true;
-  }
-  void NumberArray(const Eigen::VectorXd& x) {
-    NumberArray(std::vector<double>(x.data(), x.data() + x.size()));
-  }
-
-  static std::string Quote(const std::string& s) { return idto::examples::JsonQuote(s); }
-
-  static std::string FormatNumber(double x) {
-    if (!std::isfinite(x)) return "null";
-    // The shortest of %.15g, %.16g, %.17g that reads back exactly.
-    char buffer[32];
-    for (int digits = 15; digits <= 17; ++digits) {
-      std::snprintf(buffer, sizeof(buffer), "%.*g", digits, x);
-      if (std::strtod(buffer, nullptr) == x) break;
-    }
-    return buffer;
-  }
-
- private:
-  void Open(char bracket) {
-    Separate();
-    if (!after_key_ && depth_ > 0) Indent();
-    after_key_ = false;
-    out_ << bracket;
-    ++depth_;
-    need_comma_ = false;
-    empty_ = true;
-  }
-  void Close(char bracket) {
-    --depth_;
-    if (!empty_) {
-      out_ << '\n';
-      Indent();
-    }
-    out_ << bracket;
-    need_comma_ = true;
-    empty_ = false;
-    if (depth_ == 0) out_ << '\n';
-  }
-  void Value(const std::string& text) {
-    Separate();
-    if (!after_key_) Indent();
-    after_key_ = false;
-    out_ << text;
-    need_comma_ = true;
-  }
-  void Separate() {
-    if (after_key_) return;
-    if (need_comma_) out_ << ',';
-    if (depth_ > 0) out_ << '\n';
-    need_comma_ = false;
-    empty_ = false;
-  }
-  void Indent() {
-    for (int i = 0; i < depth_; ++i) out_ << "  ";
-  }
-
-  std::ostringstream out_;
-  int depth_{0};
-  bool need_comma_{false};
-  bool after_key_{false};
-  bool empty_{true};
-};
 
 /// The task measures as the members of a JSON object (the caller opens and closes it).
 void WriteMetrics(const idto::examples::TaskResult& task, JsonWriter* json) {
