@@ -28,10 +28,6 @@ std::uint64_t MixSeed(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
-const ProblemDefinition& ControllerProblem(const ExampleConfig& config) {
-  return config.mpc_problem ? *config.mpc_problem : config.problem;
-}
-
 double MetricOr(const examples::TaskResult& task, const std::string& name, double fallback) {
   for (const examples::Metric& m : task.metrics) {
     if (m.name == name && !m.values.empty()) return m.values[0];
@@ -107,44 +103,6 @@ RunConditions DrawConditions(const CampaignSettings& settings, const ExampleConf
   return c;
 }
 
-Model ScaleMasses(const Model& model, const std::vector<double>& scale) {
-  CheckSize("ScaleMasses", "scale", static_cast<Eigen::Index>(scale.size()), model.num_bodies(),
-            "model.num_bodies()");
-  ModelBuilder builder(model.name());
-  builder.SetGravity(model.gravity());
-  for (BodyIndex b = 1; b < model.num_bodies(); ++b) {
-    CheckPositive("ScaleMasses", "scale[" + std::to_string(b) + "]", scale[b]);
-    BodyInertia inertia = model.body_inertia(b);
-    inertia.mass *= scale[b];
-    inertia.I_BBcm_B *= scale[b];
-    const JointIndex j = b;
-    JointSpec spec;
-    spec.name = model.joint_name(j);
-    spec.type = model.joint_type(j);
-    spec.X_PJ = model.joint_frame_in_parent(j);
-    spec.axis = model.joint_axis(j);
-    spec.damping = model.joint_damping(j);
-    if (model.joint_nv(j) > 0) {
-      spec.effort_limit = model.effort_limits()(model.velocity_start(j));
-      spec.velocity_limit = model.velocity_limits()(model.velocity_start(j));
-    }
-    if (model.joint_nq(j) == 1) {
-      spec.lower_limit = model.position_lower_limits()(model.position_start(j));
-      spec.upper_limit = model.position_upper_limits()(model.position_start(j));
-    }
-    builder.AddBody(model.body_name(b), inertia, model.parent(b), spec);
-  }
-  for (FrameIndex f = 0; f < model.num_frames(); ++f) {
-    const std::string& name = model.frame_name(f);
-    if (model.HasBody(name) && model.GetBodyIndex(name) == model.frame_body(f)) continue;
-    builder.AddFrame(name, model.frame_body(f), model.X_BF(f));
-  }
-  for (const GeometryInstance& g : model.geometries()) {
-    builder.AddGeometry(g.name, g.body, g.X_BG, g.shape);
-  }
-  return builder.Build();
-}
-
 std::string FailureMode(const std::string& example, const examples::TaskResult& task) {
   if (task.task_success) return "";
   std::string mode;
@@ -203,7 +161,7 @@ RunResult RunOne(const CampaignSettings& settings, const ExampleConfig& config, 
   for (ContactParameterOverride& o : mpc.mujoco.pairs.overrides) {
     if (o.friction_coefficient) *o.friction_coefficient *= c.friction_scale;
   }
-  const Model plant_model = ScaleMasses(model, c.mass_scale);
+  const Model plant_model = ScaleBodyInertias(model, c.mass_scale);
   std::unique_ptr<sim::Plant> plant = sim::MakeMujocoPlant(plant_model, mpc.mujoco);
 
   // The initial-state perturbation: its own stream, drawn after the conditions.
@@ -225,7 +183,7 @@ RunResult RunOne(const CampaignSettings& settings, const ExampleConfig& config, 
   SolverOptions options = config.mpc_solver.value_or(config.solver);
   options.num_threads = settings.threads;
   options.verbosity = 0;
-  mpc::Controller controller(model, problem, options, mpc.controller);
+  mpc::Controller controller(ControllerModel(config), problem, options, mpc.controller);
   const SolverSummary first =
       controller.Initialize(examples::ClosedLoopInitialGuess(config), mpc.initial_iterations);
   const mpc::ClosedLoopLog log = mpc::RunClosedLoop(model, cl, &controller, plant.get());

@@ -90,10 +90,6 @@ struct RunResult {
 RunConditions DrawConditions(const CampaignSettings& settings, const ExampleConfig& config,
                              std::uint64_t seed);
 
-/// `model` with body b's mass and rotational inertia (about its centre of mass) scaled by
-/// scale[b] (num_bodies entries, > 0), rebuilt through ModelBuilder; everything else equal.
-Model ScaleMasses(const Model& model, const std::vector<double>& scale);
-
 /// Runs the closed loop of `config` under the conditions drawn from `seed` against the MuJoCo
 /// plant (a copy of the model with scaled masses and friction; the controller keeps the
 /// nominal model) and judges it by the example's closed-loop task criterion. trajectory_csv:

@@ -34,7 +34,8 @@ def run(example="spinner", duration=None, plant=None, latency=None, verbose=True
         mpc.plant = plant
     duration = mpc.closed_loop.duration if duration is None else duration
     sim = ex.make_plant()  # reset to the controller problem's initial state
-    controller = idto.Controller(model, ex.mpc_problem, ex.mpc_solver_options, mpc.controller)
+    controller = idto.Controller(
+        ex.mpc_model, ex.mpc_problem, ex.mpc_solver_options, mpc.controller)
     first = controller.initialize(ex.controller_initial_guess(), mpc.initial_iterations)
     if verbose:
         print(f"{ex.name}: plant {sim.name}, {mpc.controller.control_rate:g} Hz, "

@@ -25,10 +25,6 @@ double Duration(const mpc::ClosedLoopLog& log) {
   return log.t.size() >= 2 ? log.t.back() - log.t.front() : 0.0;
 }
 
-const ProblemDefinition& ControllerProblem(const ExampleConfig& config) {
-  return config.mpc_problem ? *config.mpc_problem : config.problem;
-}
-
 /// Position index of the floating joint `name` (-1 when absent or not floating).
 int FloatingStart(const Model& model, const std::string& name) {
   if (!model.HasJoint(name)) return -1;
@@ -271,7 +267,7 @@ const std::map<std::string, ClosedLoopFunction>& Registry() {
 }  // namespace
 
 std::vector<Eigen::VectorXd> ClosedLoopInitialGuess(const ExampleConfig& config) {
-  const ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
+  const ProblemDefinition& problem = ControllerProblem(config);
   if (problem.num_steps == config.problem.num_steps && problem.q_init == config.problem.q_init) {
     return MakeInitialGuess(config);
   }

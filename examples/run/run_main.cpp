@@ -653,12 +653,12 @@ int RunMpc(const Arguments& args, const char* argv0) {
                                                 ? idto::sim::MakeMujocoPlant(model, mpc.mujoco)
                                                 : idto::sim::MakeBuiltinPlant(model, mpc.builtin);
   // The controller's problem (mpc.problem overrides, if any) also gives the plant's start.
-  const idto::ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
+  const idto::ProblemDefinition& problem = idto::ControllerProblem(config);
   plant->Reset(problem.q_init, problem.v_init);
   // SCHED_FIFO from before the first solve, so that the solver's worker threads start under it
   // (measured steadier beside a busy process than workers switched at the loop's start).
   idto::mpc::RealtimeScheduling realtime(mpc.closed_loop.realtime_priority);
-  idto::mpc::Controller controller(model, problem, options, mpc.controller);
+  idto::mpc::Controller controller(idto::ControllerModel(config), problem, options, mpc.controller);
   const SolverSummary first =
       controller.Initialize(idto::examples::ClosedLoopInitialGuess(config), mpc.initial_iterations);
   std::cout << "  initial plan: " << first.BriefReport() << "\n";

@@ -58,6 +58,9 @@ void BindExample(py::module_& m) {
           },
           [](Example& e, const ProblemDefinition& p) { e.config.mpc_problem = p; }, ref,
           "The controller's problem (mpc.problem over problem)")
+      .def_property_readonly(
+          "mpc_model", [](const Example& e) -> const Model& { return ControllerModel(e.config); },
+          ref, "The model the controller plans with (mpc.model_mass_scale over model)")
       .def_property(
           "mpc_solver_options",
           [](Example& e) -> SolverOptions& {
@@ -79,7 +82,7 @@ void BindExample(py::module_& m) {
             std::unique_ptr<sim::Plant> plant =
                 e.mpc.plant == "mujoco" ? sim::MakeMujocoPlant(e.config.model, e.mpc.mujoco)
                                         : sim::MakeBuiltinPlant(e.config.model, e.mpc.builtin);
-            const ProblemDefinition& p = e.config.mpc_problem.value_or(e.config.problem);
+            const ProblemDefinition& p = ControllerProblem(e.config);
             plant->Reset(p.q_init, p.v_init);
             return plant;
           },

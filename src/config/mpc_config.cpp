@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,7 @@
 #include "idto/config/config.hpp"
 #include "idto/core/errors.hpp"
 #include "idto/mpc/realtime.hpp"
+#include "idto/multibody/model_builder.hpp"
 #include "joint_vector_reader.hpp"
 
 namespace idto {
@@ -44,6 +46,7 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "mujoco_friction",
                                            "mujoco_torsional_friction",
                                            "mujoco_rolling_friction",
+                                           "model_mass_scale",
                                            "disturbances",
                                            "problem",
                                            "contact",
@@ -215,6 +218,26 @@ void ReadRelativeGoals(const MapReader& mpc, const Model& model, mpc::MpcOptions
   }
 }
 
+/// model_mass_scale: {body: factor > 0}: the controller's model with those bodies' masses and
+/// rotational inertias scaled (ScaleBodyInertias); empty without the key.
+std::optional<Model> ReadModelMassScale(const MapReader& mpc, const Model& model) {
+  if (!mpc.Has("model_mass_scale")) return std::nullopt;
+  const Reader& r = mpc.reader();
+  const std::string path = mpc.Path("model_mass_scale");
+  const std::string expected = "a map {body: mass factor > 0}";
+  const std::vector<MapEntry> entries = r.Entries(mpc.Get("model_mass_scale"), path, expected);
+  if (entries.empty()) r.FailValue(mpc.Get("model_mass_scale"), path, "an empty map", expected);
+  std::vector<double> scale(static_cast<size_t>(model.num_bodies()), 1.0);
+  for (const MapEntry& e : entries) {
+    if (!model.HasBody(e.key) || model.GetBodyIndex(e.key) == kWorldBody) {
+      r.FailValue(e.key_node, Join(path, e.key), "'" + e.key + "'",
+                  "a body of the scene other than the world");
+    }
+    scale[static_cast<size_t>(model.GetBodyIndex(e.key))] = r.Positive(e.value, Join(path, e.key));
+  }
+  return ScaleBodyInertias(model, scale);
+}
+
 /// orientation_lead: {floating joint: largest lead angle in rad}.
 void ReadOrientationLeads(const MapReader& mpc, const Model& model, mpc::MpcOptions* c) {
   if (!mpc.Has("orientation_lead")) return;
@@ -326,6 +349,7 @@ void ConfigLoader::LoadMpc(const YAML::Node& node, const YAML::Node& open_loop_p
     config_.mpc_solver = config_.solver;
     config_.solver = open_loop;
   }
+  config_.mpc_model = ReadModelMassScale(mpc, config_.model);
   config_.mpc = ReadMpcConfig(mpc, config_);
 }
 
@@ -334,6 +358,14 @@ void ConfigLoader::LoadMpc(const YAML::Node& node, const YAML::Node& open_loop_p
 MpcConfig ParseMpcConfig(const ExampleConfig& config) {
   if (config.mpc.has_value()) return *config.mpc;
   return config_internal::DefaultMpcConfig(config.model, config.problem.contact);
+}
+
+const Model& ControllerModel(const ExampleConfig& config) {
+  return config.mpc_model ? *config.mpc_model : config.model;
+}
+
+const ProblemDefinition& ControllerProblem(const ExampleConfig& config) {
+  return config.mpc_problem ? *config.mpc_problem : config.problem;
 }
 
 }  // namespace idto

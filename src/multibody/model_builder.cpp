@@ -412,4 +412,42 @@ void ModelBuilder::FillFramesAndGeometry(Model* model) const {
   }
 }
 
+Model ScaleBodyInertias(const Model& model, const std::vector<double>& scale) {
+  CheckSize("ScaleBodyInertias", "scale", static_cast<Eigen::Index>(scale.size()),
+            model.num_bodies(), "model.num_bodies()");
+  ModelBuilder builder(model.name());
+  builder.SetGravity(model.gravity());
+  for (BodyIndex b = 1; b < model.num_bodies(); ++b) {
+    CheckPositive("ScaleBodyInertias", "scale[" + std::to_string(b) + "]", scale[b]);
+    BodyInertia inertia = model.body_inertia(b);
+    inertia.mass *= scale[b];
+    inertia.I_BBcm_B *= scale[b];
+    const JointIndex j = b;
+    JointSpec spec;
+    spec.name = model.joint_name(j);
+    spec.type = model.joint_type(j);
+    spec.X_PJ = model.joint_frame_in_parent(j);
+    spec.axis = model.joint_axis(j);
+    spec.damping = model.joint_damping(j);
+    if (model.joint_nv(j) > 0) {
+      spec.effort_limit = model.effort_limits()(model.velocity_start(j));
+      spec.velocity_limit = model.velocity_limits()(model.velocity_start(j));
+    }
+    if (model.joint_nq(j) == 1) {
+      spec.lower_limit = model.position_lower_limits()(model.position_start(j));
+      spec.upper_limit = model.position_upper_limits()(model.position_start(j));
+    }
+    builder.AddBody(model.body_name(b), inertia, model.parent(b), spec);
+  }
+  for (FrameIndex f = 0; f < model.num_frames(); ++f) {
+    const std::string& name = model.frame_name(f);
+    if (model.HasBody(name) && model.GetBodyIndex(name) == model.frame_body(f)) continue;
+    builder.AddFrame(name, model.frame_body(f), model.X_BF(f));
+  }
+  for (const GeometryInstance& g : model.geometries()) {
+    builder.AddGeometry(g.name, g.body, g.X_BG, g.shape);
+  }
+  return builder.Build();
+}
+
 }  // namespace idto

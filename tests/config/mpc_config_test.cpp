@@ -182,6 +182,18 @@ ExampleConfig LoadExample(const std::string& name, const std::string& text) {
   return LoadExampleConfigString(text, name + ".yaml", dir, kShareDirs);
 }
 
+/// A checker of example `name` with an mpc section holding the given lines (and `more` after
+/// them): loading fails with an error at `key_path`, on the section's first line, containing
+/// `text`.
+auto MpcErrorChecker(const std::string& name, const std::string& more = "") {
+  return [name, more](const std::string& lines, const std::string& key_path,
+                      const std::string& text) {
+    int first = 0;
+    const std::string yaml = ExampleWithMpc(name, lines + more, &first);
+    EXPECT_THAT([&] { LoadExample(name, yaml); }, ErrorAt(name + ".yaml", key_path, first, text));
+  };
+}
+
 TEST(MpcConfigTest, SpinnerKeysAndErrors) {
   int line = 0;
   ExampleConfig config =
@@ -197,13 +209,7 @@ TEST(MpcConfigTest, SpinnerKeysAndErrors) {
   EXPECT_EQ(config.mpc->closed_loop.latency, mpc::LatencyModel::kFixed);
   EXPECT_DOUBLE_EQ(config.mpc->closed_loop.fixed_latency, 0.004);
 
-  auto throws = [&](const std::string& lines, const std::string& key_path,
-                    const std::string& text) {
-    int first = 0;
-    const std::string yaml = ExampleWithMpc("spinner", lines, &first);
-    EXPECT_THAT([&] { LoadExample("spinner", yaml); },
-                ErrorAt("spinner.yaml", key_path, first, text));
-  };
+  const auto throws = MpcErrorChecker("spinner");
   throws("  control_rate: -5\n", "mpc.control_rate", "is -5; expected a finite positive number");
   throws("  plant: gazebo\n", "mpc.plant", "is 'gazebo'; expected one of mujoco, builtin");
   throws("  late_plans: keep\n", "mpc.late_plans",
@@ -239,14 +245,7 @@ TEST(MpcConfigTest, RelativeGoalKeysAndErrors) {
   EXPECT_DOUBLE_EQ(goals[0].goal, -1.5);
   EXPECT_EQ(goals[1].position, config.model.GetPositionStart("spinner_axle"));
   EXPECT_DOUBLE_EQ(goals[1].goal, 2.5);
-  auto throws = [&](const std::string& lines, const std::string& key_path,
-                    const std::string& text) {
-    int first = 0;
-    const std::string yaml =
-        ExampleWithMpc("spinner", lines + "  relative: [spinner_axle]\n", &first);
-    EXPECT_THAT([&] { LoadExample("spinner", yaml); },
-                ErrorAt("spinner.yaml", key_path, first, text));
-  };
+  const auto throws = MpcErrorChecker("spinner", "  relative: [spinner_axle]\n");
   throws("  relative_goal: {finger_shoulder: 1}\n", "mpc.relative_goal.finger_shoulder",
          "is 'finger_shoulder'; expected a joint listed in mpc.relative");
   throws("  relative_goal: {no_joint: 1}\n", "mpc.relative_goal.no_joint",
@@ -256,6 +255,40 @@ TEST(MpcConfigTest, RelativeGoalKeysAndErrors) {
   throws("  relative_goal: {spinner_axle: .inf}\n", "mpc.relative_goal.spinner_axle",
          "expected a finite number");
   throws("  relative_goal: [1]\n", "mpc.relative_goal", "expected a map {joint: goal or [goals]}");
+}
+
+TEST(MpcConfigTest, ModelMassScaleKeyAndErrors) {
+  int line = 0;
+  const ExampleConfig config = LoadExample(
+      "spinner", ExampleWithMpc("spinner", "  model_mass_scale: {spinner: 1.3}\n", &line));
+  ASSERT_TRUE(config.mpc_model.has_value());
+  const Model& controller = ControllerModel(config);
+  EXPECT_EQ(&controller, &*config.mpc_model);
+  for (BodyIndex b = 1; b < config.model.num_bodies(); ++b) {
+    const double factor = config.model.body_name(b) == "spinner" ? 1.3 : 1.0;
+    EXPECT_DOUBLE_EQ(controller.body_mass(b), factor * config.model.body_mass(b)) << b;
+    EXPECT_TRUE(controller.body_inertia(b).I_BBcm_B.isApprox(
+        factor * config.model.body_inertia(b).I_BBcm_B, 1e-15))
+        << b;
+  }
+  EXPECT_EQ(controller.geometries().size(), config.model.geometries().size());
+  // Without the key the controller plans with the scene's model.
+  const ExampleConfig plain =
+      LoadExample("spinner", ExampleWithMpc("spinner", "  control_rate: 100\n", &line));
+  EXPECT_FALSE(plain.mpc_model.has_value());
+  EXPECT_EQ(&ControllerModel(plain), &plain.model);
+  const auto throws = MpcErrorChecker("spinner");
+  throws("  model_mass_scale: {world: 2}\n", "mpc.model_mass_scale.world",
+         "is 'world'; expected a body of the scene other than the world");
+  throws("  model_mass_scale: {no_body: 2}\n", "mpc.model_mass_scale.no_body",
+         "is 'no_body'; expected a body of the scene");
+  throws("  model_mass_scale: {spinner: 0}\n", "mpc.model_mass_scale.spinner",
+         "expected a finite positive number");
+  throws("  model_mass_scale: {spinner: .nan}\n", "mpc.model_mass_scale.spinner",
+         "is nan; expected a finite number");
+  throws("  model_mass_scale: [1.3]\n", "mpc.model_mass_scale",
+         "expected a map {body: mass factor > 0}");
+  throws("  model_mass_scale: {}\n", "mpc.model_mass_scale", "is an empty map");
 }
 
 TEST(MpcConfigTest, OrientationLeadAndMujocoFrictionKeys) {
@@ -274,13 +307,7 @@ TEST(MpcConfigTest, OrientationLeadAndMujocoFrictionKeys) {
   EXPECT_DOUBLE_EQ(m.controller.orientation_leads[0].max_angle, 0.4);
   EXPECT_DOUBLE_EQ(m.mujoco.torsional_friction, 0.002);
   EXPECT_DOUBLE_EQ(m.mujoco.rolling_friction, 0.01);
-  auto throws = [&](const std::string& lines, const std::string& key_path,
-                    const std::string& text) {
-    int first = 0;
-    const std::string yaml = ExampleWithMpc("allegro", lines, &first);
-    EXPECT_THAT([&] { LoadExample("allegro", yaml); },
-                ErrorAt("allegro.yaml", key_path, first, text));
-  };
+  const auto throws = MpcErrorChecker("allegro");
   throws("  orientation_lead: {index_joint0: 0.4}\n", "mpc.orientation_lead.index_joint0",
          "is 'index_joint0'; expected a floating joint");
   throws("  orientation_lead: {ball_root_joint: -1}\n", "mpc.orientation_lead.ball_root_joint",

@@ -66,17 +66,17 @@ TEST(Campaign, ScaledMassesChangeOnlyTheMasses) {
   sim::MujocoPlantOptions options;
   options.pairs = config.problem.contact;
   // At scale 1 the rebuilt model exports the same MuJoCo model, every joint, frame and shape.
-  EXPECT_EQ(sim::MakeMujocoPlantMjcf(campaign::ScaleMasses(model, scale), options),
+  EXPECT_EQ(sim::MakeMujocoPlantMjcf(ScaleBodyInertias(model, scale), options),
             sim::MakeMujocoPlantMjcf(model, options));
   const BodyIndex body = model.GetBodyIndex("body");
   scale[body] = 1.25;
-  const Model scaled = campaign::ScaleMasses(model, scale);
+  const Model scaled = ScaleBodyInertias(model, scale);
   EXPECT_DOUBLE_EQ(scaled.body_mass(body), 1.25 * model.body_mass(body));
   EXPECT_NEAR(scaled.total_mass() - model.total_mass(), 0.25 * model.body_mass(body), 1e-12);
   EXPECT_EQ(scaled.nq(), model.nq());
   EXPECT_EQ(scaled.geometries().size(), model.geometries().size());
   scale[body] = 0.0;
-  EXPECT_THROW(campaign::ScaleMasses(model, scale), std::invalid_argument);
+  EXPECT_THROW(ScaleBodyInertias(model, scale), std::invalid_argument);
 }
 
 TEST(Campaign, DifferentSeedsDrawDifferentConditions) {

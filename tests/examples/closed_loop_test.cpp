@@ -115,7 +115,7 @@ TEST(ClosedLoopTask, SpinnerRate) {
 TEST(ClosedLoopTask, AllegroBallReachedAndHeldForTheLastThreeSeconds) {
   const ExampleConfig config = Load("allegro");
   const int qs = config.model.GetPositionStart("ball_root_joint");
-  const Eigen::VectorXd q0 = config.mpc_problem.value_or(config.problem).q_init;
+  const Eigen::VectorXd q0 = ControllerProblem(config).q_init;
   auto log_with_angle = [&](auto angle) {
     mpc::ClosedLoopLog log = LinearLog(config.model, q0, q0, 20.0);
     for (size_t k = 0; k < log.t.size(); ++k) {
@@ -146,10 +146,10 @@ TaskResult RunAgainstMujoco(const std::string& name, double latency) {
   mpc.closed_loop.latency = mpc::LatencyModel::kFixed;
   mpc.closed_loop.fixed_latency = latency;
   std::unique_ptr<sim::Plant> plant = sim::MakeMujocoPlant(config.model, mpc.mujoco);
-  const ProblemDefinition& problem = config.mpc_problem.value_or(config.problem);
+  const ProblemDefinition& problem = ControllerProblem(config);
   plant->Reset(problem.q_init, problem.v_init);
-  mpc::Controller controller(config.model, problem, config.mpc_solver.value_or(config.solver),
-                             mpc.controller);
+  mpc::Controller controller(ControllerModel(config), problem,
+                             config.mpc_solver.value_or(config.solver), mpc.controller);
   controller.Initialize(ClosedLoopInitialGuess(config), mpc.initial_iterations);
   const mpc::ClosedLoopLog log =
       mpc::RunClosedLoop(config.model, mpc.closed_loop, &controller, plant.get());

@@ -26,6 +26,8 @@ def test_load_example(spinner):
     assert ex.mpc.closed_loop.duration == 5.0
     assert ex.mpc.plant in ("mujoco", "builtin")
     assert ex.mpc_problem.num_steps == 40 and ex.mpc_solver_options.max_iterations == 300
+    # No mpc.model_mass_scale: the controller plans with the scene's model.
+    assert ex.mpc_model.nq() == ex.model.nq() and ex.mpc_model.body_names() == ex.model.body_names()
     assert "spinner" in idto.list_examples(idto.default_share_dirs())
     path = idto.find_example_config("spinner", idto.default_share_dirs())
     assert idto.load_example(path).name == "spinner"

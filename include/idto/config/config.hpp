@@ -90,7 +90,17 @@ struct ExampleConfig {
   /// otherwise: the controller uses `solver`. (`mpc.contact`, the controller's contact law
   /// parameters over the scene's, ends up in mpc_problem->contact.)
   std::optional<SolverOptions> mpc_solver;
+  /// The controller's model when `mpc.model_mass_scale` is given: `model` with those bodies'
+  /// masses and rotational inertias scaled (ScaleBodyInertias; errors name
+  /// "mpc.model_mass_scale.<body>"), so that the controller plans with other masses than the
+  /// plant has. Empty otherwise: the controller uses `model`.
+  std::optional<Model> mpc_model;
 };
+
+/// The model the controller plans with: mpc_model when given, else model.
+const Model& ControllerModel(const ExampleConfig& config);
+/// The controller's problem: mpc_problem when given, else problem.
+const ProblemDefinition& ControllerProblem(const ExampleConfig& config);
 
 /// Loads and checks a configuration file. URDF paths in `scene.models[i].urdf` are resolved, in
 /// order: absolute paths as given; relative to the YAML file's folder; then `<dir>/models/<path>`

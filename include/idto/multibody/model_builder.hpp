@@ -108,4 +108,12 @@ class ModelBuilder {
   Eigen::Vector3d gravity_{0.0, 0.0, -9.81};
 };
 
+/// A copy of `model` whose body b has its mass and its rotational inertia about its centre of
+/// mass multiplied by scale[b] (scale: num_bodies entries; scale[0], the world's, is not used;
+/// the others finite and > 0, else InvalidArgument naming the entry). Joints, limits, damping,
+/// frames, geometry, gravity and name are copied. For a plant with other masses than a
+/// controller's model (idto-campaign's mass mismatch) and for a controller that plans with
+/// other masses than the scene's (`mpc.model_mass_scale`).
+Model ScaleBodyInertias(const Model& model, const std::vector<double>& scale);
+
 }  // namespace idto

@@ -54,9 +54,10 @@ TEST(CampaignHeavy, QuadrupedHills50Runs) {
 
 TEST(CampaignHeavy, Hopper50Runs) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
-  // docs/mpc.md: 37 of 50 at this seed with session 25's controller (its target stops at a goal
-  // 0.7 m from the start); 32 with session 21's, which this threshold would fail.
-  EXPECT_GE(CampaignSuccesses("hopper", 50, 1), 35);
+  // docs/mpc.md: 40 of 50 at this seed with session 26's controller (a goal 0.7 m from the
+  // start, a 30 % heavier shin in the planner's model); 37 with session 25's and 32 with
+  // session 21's, which this threshold would fail.
+  EXPECT_GE(CampaignSuccesses("hopper", 50, 1), 38);
 }
 
 }  // namespace
