@@ -185,7 +185,7 @@ RunResult RunOne(const CampaignSettings& settings, const ExampleConfig& config, 
   options.verbosity = 0;
   mpc::Controller controller(ControllerModel(config), problem, options, mpc.controller);
   const SolverSummary first =
-      controller.Initialize(examples::ClosedLoopInitialGuess(config), mpc.initial_iterations);
+      controller.Initialize(ControllerInitialGuess(config), mpc.initial_iterations);
   const mpc::ClosedLoopLog log = mpc::RunClosedLoop(model, cl, &controller, plant.get());
   if (trajectory_csv != nullptr) *trajectory_csv = log.ToCsv(model);
   const examples::TaskResult task = examples::EvaluateClosedLoopTask(config, log);

@@ -266,16 +266,6 @@ const std::map<std::string, ClosedLoopFunction>& Registry() {
 
 }  // namespace
 
-std::vector<Eigen::VectorXd> ClosedLoopInitialGuess(const ExampleConfig& config) {
-  const ProblemDefinition& problem = ControllerProblem(config);
-  if (problem.num_steps == config.problem.num_steps && problem.q_init == config.problem.q_init) {
-    return MakeInitialGuess(config);
-  }
-  ExampleConfig controller_config = config;
-  controller_config.problem = problem;
-  return MakeInitialGuess(controller_config);
-}
-
 Trajectory ResampleClosedLoop(const mpc::ClosedLoopLog& log, double dt) {
   Trajectory t;
   double next = 0.0;

@@ -21,12 +21,6 @@ namespace idto::examples {
 /// failure (log.failure) is never a success.
 TaskResult EvaluateClosedLoopTask(const ExampleConfig& config, const mpc::ClosedLoopLog& log);
 
-/// The controller's initial guess for `config`'s closed loop (N+1 configurations of its `mpc`
-/// problem): the open-loop guess (MakeInitialGuess(config)) when the controller's problem has
-/// the same horizon and initial state, else the same kind of guess for the controller's problem.
-/// The plant starts from that problem's q_init, v_init.
-std::vector<Eigen::VectorXd> ClosedLoopInitialGuess(const ExampleConfig& config);
-
 /// The log at times 0, dt, 2 dt, ... (the first log entry at or after each), as a Trajectory
 /// (q, v, and u as tau).
 Trajectory ResampleClosedLoop(const mpc::ClosedLoopLog& log, double dt);

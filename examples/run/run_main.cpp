@@ -3,7 +3,8 @@
 //
 //   idto-run CONFIG.yaml|NAME [--max-iterations N] [--threads N]
 //            [--constraints none|penalty|lagrange] [--derivatives analytic|forward|central]
-//            [--mpc [--real-time] [--keep-workers-awake]] [--summary-json FILE]
+//            [--mpc [--real-time] [--keep-workers-awake] [--realtime-priority P]]
+//            [--summary-json FILE]
 //            [--trajectory-csv FILE] [--stats-csv FILE] [--html FILE] [--quiet]
 //
 // NAME is an example's name: examples/NAME/NAME.yaml under $IDTO_SHARE_DIR, the source tree (for
@@ -70,7 +71,7 @@ const char kUsage[] =
     "$IDTO_SHARE_DIR, the source tree or <bin>/../share/idto.\n"
     "\n"
     "options:\n"
-    "  --max-iterations N                 override solver.max_iterations (N >= 0)\n"
+    "  --max-iterations N                 override solver.max_iterations (N >= 0; not with --mpc)\n"
     "  --threads N                        override solver.num_threads (N >= 1)\n"
     "  --constraints none|penalty|lagrange  override solver.constraint_method\n"
     "  --derivatives analytic|forward|central\n"
@@ -221,6 +222,13 @@ Arguments ParseArguments(int argc, char** argv) {
   }
   if (args.help) return args;
   if (args.real_time && !args.mpc) throw UsageError{"--real-time needs --mpc"};
+  // The closed loop counts its iterations with mpc.initial_iterations and
+  // mpc.iterations_per_step; a flag that silently did nothing would mislead.
+  if (args.max_iterations && args.mpc) {
+    throw UsageError{
+        "--max-iterations does not apply with --mpc (set mpc.initial_iterations, the cold "
+        "start's, and mpc.iterations_per_step, each re-plan's, in the file)"};
+  }
   if (args.keep_workers_awake && !args.mpc) throw UsageError{"--keep-workers-awake needs --mpc"};
   if (args.realtime_priority && !args.mpc) throw UsageError{"--realtime-priority needs --mpc"};
   if (positional.empty()) throw UsageError{"missing CONFIG.yaml or example NAME"};
@@ -660,7 +668,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
   idto::mpc::RealtimeScheduling realtime(mpc.closed_loop.realtime_priority);
   idto::mpc::Controller controller(idto::ControllerModel(config), problem, options, mpc.controller);
   const SolverSummary first =
-      controller.Initialize(idto::examples::ClosedLoopInitialGuess(config), mpc.initial_iterations);
+      controller.Initialize(idto::ControllerInitialGuess(config), mpc.initial_iterations);
   std::cout << "  initial plan: " << first.BriefReport() << "\n";
   const idto::mpc::ClosedLoopLog log =
       idto::mpc::RunClosedLoop(model, mpc.closed_loop, &controller, plant.get());

@@ -19,14 +19,6 @@ Example LoadExample(const std::string& name_or_path, const std::vector<std::stri
   return e;
 }
 
-/// The first iterate of the controller's problem (mpc.problem may change horizon and start).
-std::vector<Eigen::VectorXd> ControllerInitialGuess(const ExampleConfig& config) {
-  if (!config.mpc_problem) return MakeInitialGuess(config);
-  ExampleConfig controller = config;
-  controller.problem = *config.mpc_problem;
-  return MakeInitialGuess(controller);
-}
-
 void BindExample(py::module_& m) {
   const auto ref = py::return_value_policy::reference_internal;
   py::class_<Example>(m, "Example",
@@ -75,7 +67,8 @@ void BindExample(py::module_& m) {
       .def(
           "controller_initial_guess",
           [](const Example& e) { return ToArray(ControllerInitialGuess(e.config)); },
-          "The first iterate of the controller's problem (mpc_problem).")
+          "The first iterate of the controller's cold start ((N + 1) x nq; "
+          "ControllerInitialGuess).")
       .def(
           "make_plant",
           [](const Example& e) {

@@ -48,4 +48,16 @@ std::vector<Eigen::VectorXd> MakeInitialGuess(const ExampleConfig& config) {
   return q;
 }
 
+std::vector<Eigen::VectorXd> ControllerInitialGuess(const ExampleConfig& config) {
+  const ProblemDefinition& problem = ControllerProblem(config);
+  if (!config.mpc_initial_guess && problem.num_steps == config.problem.num_steps &&
+      problem.q_init == config.problem.q_init) {
+    return MakeInitialGuess(config);
+  }
+  ExampleConfig controller = config;
+  controller.problem = problem;
+  controller.initial_guess = config.mpc_initial_guess.value_or(config.initial_guess);
+  return MakeInitialGuess(controller);
+}
+
 }  // namespace idto

@@ -259,13 +259,16 @@ void ReadOrientationLeads(const MapReader& mpc, const Model& model, mpc::MpcOpti
   }
 }
 
-/// builtin_contact: the built-in plant's contact law (keys absent keep the plant's defaults).
+/// builtin_contact: the built-in plant's contact law (keys absent keep the plant's defaults,
+/// except the friction coefficient, which stays the scene's as without the key).
 void ReadBuiltinContact(const MapReader& mpc, sim::BuiltinPlantOptions* builtin) {
   if (!mpc.Has("builtin_contact")) return;
   const MapReader b(mpc.reader(), mpc.Get("builtin_contact"), mpc.Path("builtin_contact"),
                     kBuiltinContactKeys);
   ContactParameters& p = builtin->contact;
+  const double scene_friction = p.friction_coefficient;
   p = sim::BuiltinPlantOptions{}.contact;
+  p.friction_coefficient = scene_friction;
   p.stiffness = b.Positive("stiffness", p.stiffness);
   p.smoothing = b.Positive("smoothing", p.smoothing);
   p.dissipation_velocity = b.Positive("dissipation_velocity", p.dissipation_velocity);
@@ -291,7 +294,8 @@ void ReadDisturbances(const MapReader& mpc, const Model& model, mpc::ClosedLoopO
     }
     disturbance.body = model.GetBodyIndex(body);
     disturbance.start = d.NonNegative("start", disturbance.start);
-    disturbance.duration = d.Positive("duration", disturbance.duration);
+    // Required: a push without a duration would never act.
+    disturbance.duration = r.Positive(d.Require("duration"), d.Path("duration"));
     disturbance.force_W = r.Vector3(d.Require("force"), d.Path("force"));
     cl->disturbances.push_back(disturbance);
   }

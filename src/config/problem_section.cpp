@@ -85,17 +85,25 @@ void ConfigLoader::ReadHorizon(const MapReader& p, ProblemDefinition* problem) c
                  p.Has("horizon") ? "given together with num_steps; expected one of them"
                                   : "missing; expected horizon (s) or num_steps");
   }
+  // The same limit in both spellings (10^7 steps: far beyond any horizon a solve can hold).
+  constexpr int kMaxNumSteps = 10000000;
   if (p.Has("num_steps")) {
     problem->num_steps = p.Int("num_steps", 1, 1);
+    if (problem->num_steps > kMaxNumSteps) {
+      reader_.FailValue(p.Get("num_steps"), p.Path("num_steps"), std::to_string(problem->num_steps),
+                        "an integer from 1 to " + std::to_string(kMaxNumSteps));
+    }
     return;
   }
   const double horizon = p.Positive("horizon", 1.0);
   const double ratio = horizon / problem->time_step;
   const double steps = std::round(ratio);
-  if (!(steps >= 1.0) || std::abs(ratio - steps) > 1e-9 * std::max(1.0, ratio) || steps > 1e7) {
+  if (!(steps >= 1.0) || std::abs(ratio - steps) > 1e-9 * std::max(1.0, ratio) ||
+      steps > kMaxNumSteps) {
     reader_.FailValue(p.Get("horizon"), p.Path("horizon"), FormatValue(horizon),
                       "a positive multiple of time_step = " + FormatValue(problem->time_step) +
-                          " (horizon / time_step = " + FormatValue(ratio) + ")");
+                          ", at most " + std::to_string(kMaxNumSteps) +
+                          " steps (horizon / time_step = " + FormatValue(ratio) + ")");
   }
   problem->num_steps = static_cast<int>(steps);
 }
@@ -247,6 +255,7 @@ void ConfigLoader::LoadMpcProblem(const YAML::Node& problem, const YAML::Node& o
   LoadProblem(merged, "mpc.problem");
   config_.mpc_problem = std::move(config_.problem);
   config_.problem = std::move(open_loop);
+  if (overrides["initial_guess"]) config_.mpc_initial_guess = config_.initial_guess;
   config_.initial_guess = guess;
 }
 

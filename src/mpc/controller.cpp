@@ -142,9 +142,13 @@ void Controller::Publish(double t, const Trajectory& solution) {
 
 SolverSummary Controller::Initialize(const std::vector<Eigen::VectorXd>& q_guess,
                                      int initial_iterations) {
+  if (initial_iterations < 0) {
+    ThrowInvalidArgument("Controller::Initialize", "initial_iterations",
+                         std::to_string(initial_iterations), "an integer >= 0");
+  }
   SolverOptions& o = optimizer_->mutable_options();
   const int per_step = o.max_iterations;
-  o.max_iterations = std::max(initial_iterations, 1);
+  o.max_iterations = initial_iterations;  // 0: the first plan is the guess itself
   const SolverSummary summary = optimizer_->Solve(q_guess, &solution_);
   o.max_iterations = per_step;
   Publish(0.0, solution_);

@@ -154,6 +154,14 @@ TEST(ConfigErrorTest, Horizon) {
   EXPECT_THAT(Loading(With("horizon: 1.0", "num_steps: 0")),
               ThrowsMessage<FileError>(AllOf(HasSubstr("problem.num_steps"), HasSubstr("is 0"),
                                              HasSubstr("an integer >= 1"))));
+  // One limit in both spellings of the length (10^7 steps).
+  EXPECT_THAT(
+      Loading(With("horizon: 1.0", "num_steps: 10000001")),
+      ThrowsMessage<FileError>(AllOf(HasSubstr("problem.num_steps"), HasSubstr("is 10000001"),
+                                     HasSubstr("an integer from 1 to 10000000"))));
+  EXPECT_THAT(Loading(With("horizon: 1.0", "horizon: 500000.05")),
+              ThrowsMessage<FileError>(
+                  AllOf(HasSubstr("problem.horizon"), HasSubstr("at most 10000000 steps"))));
 }
 
 TEST(ConfigErrorTest, UnknownJoint) {

@@ -26,6 +26,7 @@ namespace {
 using test::kBase;
 using test::kShareDirs;
 using test::LoadText;
+using test::With;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 using ::testing::ThrowsMessage;
@@ -141,9 +142,40 @@ TEST(MpcConfigTest, SubSectionsNameTheirKeyPathAndLine) {
               ErrorAt(f, "mpc.contact.stiffness", 18, "is -1"));
   EXPECT_THAT(LoadingFile(f, MpcFile("  relative: [{elbow: [0.5]}]\n")),
               ErrorAt(f, "mpc.relative[0].elbow[0]", 17, "is '0.5'; expected an integer"));
+  EXPECT_THAT(LoadingFile(f, MpcFile("  disturbances:\n    - {body: lower_link, duration: 0.1, "
+                                     "force: [1, x, 0]}\n")),
+              ErrorAt(f, "mpc.disturbances[0].force[1]", 18, "is 'x'; expected a number"));
+}
+
+// Keys that used to be read and then lost: each is now used or refused.
+TEST(MpcConfigTest, NoKeyIsSilentlyIgnored) {
+  const std::string f = "ignored.yaml";
+  // A push without a duration never acted.
   EXPECT_THAT(
-      LoadingFile(f, MpcFile("  disturbances:\n    - {body: lower_link, force: [1, x, 0]}\n")),
-      ErrorAt(f, "mpc.disturbances[0].force[1]", 18, "is 'x'; expected a number"));
+      LoadingFile(f, MpcFile("  disturbances:\n    - {body: lower_link, force: [1, 0, 0]}\n")),
+      ErrorAt(f, "mpc.disturbances[0].duration", 18, "missing (required)"));
+  // builtin_contact without friction_coefficient kept the plant's 1.0, not the scene's.
+  const std::string scene =
+      With("    - urdf: acrobot.urdf\n",
+           "    - urdf: acrobot.urdf\n  contact: {friction_coefficient: 0.3}\n");
+  const std::string mpc = "mpc:\n  plant: builtin\n  builtin_contact: ";
+  const ExampleConfig stiff = LoadText(scene + mpc + "{stiffness: 5000}\n");
+  EXPECT_DOUBLE_EQ(stiff.mpc->builtin.contact.stiffness, 5000);
+  EXPECT_DOUBLE_EQ(stiff.mpc->builtin.contact.friction_coefficient, 0.3);
+  const ExampleConfig slippery = LoadText(scene + mpc + "{friction_coefficient: 0.1}\n");
+  EXPECT_DOUBLE_EQ(slippery.mpc->builtin.contact.friction_coefficient, 0.1);
+  // mpc.problem.initial_guess was checked, then dropped: it is now the controller's cold start.
+  const ExampleConfig open_loop_guess = LoadText(MpcFile("  problem: {q_init: [0.1, 0]}\n"));
+  EXPECT_FALSE(open_loop_guess.mpc_initial_guess.has_value());
+  const ExampleConfig constant =
+      LoadText(With("  q_init: [0, 0]\n", "  q_init: [0, 0]\n  nominal: {q_end: [1, 1]}\n") +
+               "mpc:\n  plant: builtin\n  problem: {initial_guess: constant}\n");
+  ASSERT_EQ(constant.mpc_initial_guess, InitialGuessType::kConstant);
+  EXPECT_EQ(constant.initial_guess, InitialGuessType::kInterpolate);
+  const std::vector<Eigen::VectorXd> q = ControllerInitialGuess(constant);
+  ASSERT_EQ(q.size(), 21u);
+  EXPECT_EQ(q.back(), constant.problem.q_init);            // constant: q_init throughout
+  EXPECT_NE(MakeInitialGuess(constant).back(), q.back());  // the open loop interpolates to q_end
 }
 
 TEST(MpcConfigTest, NoYamlExceptionEscapes) {

@@ -23,7 +23,6 @@
 namespace idto {
 namespace {
 
-using examples::ClosedLoopInitialGuess;
 using examples::EvaluateClosedLoopTask;
 using examples::TaskResult;
 
@@ -150,7 +149,7 @@ TaskResult RunAgainstMujoco(const std::string& name, double latency) {
   plant->Reset(problem.q_init, problem.v_init);
   mpc::Controller controller(ControllerModel(config), problem,
                              config.mpc_solver.value_or(config.solver), mpc.controller);
-  controller.Initialize(ClosedLoopInitialGuess(config), mpc.initial_iterations);
+  controller.Initialize(ControllerInitialGuess(config), mpc.initial_iterations);
   const mpc::ClosedLoopLog log =
       mpc::RunClosedLoop(config.model, mpc.closed_loop, &controller, plant.get());
   EXPECT_EQ(log.failure, "");

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -16,7 +17,9 @@ namespace idto::mpc {
 namespace {
 
 using test::Pendulum;
+using ::testing::AllOf;
 using ::testing::HasSubstr;
+using ::testing::ThrowsMessage;
 
 TEST(CubicSpline, InterpolatesKnotsAndIsTwiceContinuouslyDifferentiable) {
   test::Random rng(1);
@@ -144,6 +147,29 @@ TEST(Controller, WarmStartIsThePreviousPlanShiftedInTime) {
   Eigen::VectorXd q_d, v_d, u_ff;
   c.plan().Sample(model, t, &q_d, &v_d, &u_ff);
   EXPECT_EIGEN_NEAR(q_d, before.q[1], 1e-12);
+}
+
+// initial_iterations counts the cold start's iterations exactly: 0 publishes the guess itself (it
+// used to run one iteration anyway); a negative count is refused.
+TEST(Controller, InitialIterationsAreExact) {
+  const Model model = Pendulum();
+  const ProblemDefinition p = SwingUp(model);
+  std::vector<Eigen::VectorXd> guess(21, p.q_init);
+  for (int k = 0; k <= 20; ++k) guess[k](0) = 0.01 * k;
+  for (const int n : {0, 1, 3}) {
+    Controller c(model, p, SolverOptions{}, MpcOptions{});
+    const SolverSummary s = c.Initialize(guess, n);
+    EXPECT_EQ(s.iterations, n);
+    if (n == 0) {
+      for (int k = 0; k <= 20; ++k) EXPECT_EQ(c.plan().q[k], guess[k]) << k;
+    } else {
+      EXPECT_NE(c.plan().q[20], guess[20]);
+    }
+  }
+  Controller c(model, p, SolverOptions{}, MpcOptions{});
+  EXPECT_THAT([&] { c.Initialize(guess, -1); },
+              ThrowsMessage<InvalidArgument>(
+                  AllOf(HasSubstr("initial_iterations"), HasSubstr("-1"), HasSubstr(">= 0"))));
 }
 
 TEST(Controller, RelativeNominalsMoveWithTheMeasuredState) {

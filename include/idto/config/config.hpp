@@ -95,6 +95,9 @@ struct ExampleConfig {
   /// "mpc.model_mass_scale.<body>"), so that the controller plans with other masses than the
   /// plant has. Empty otherwise: the controller uses `model`.
   std::optional<Model> mpc_model;
+  /// The controller's `initial_guess` when `mpc.problem.initial_guess` is given (its cold start
+  /// builds ControllerInitialGuess with it). Empty otherwise.
+  std::optional<InitialGuessType> mpc_initial_guess;
 };
 
 /// The model the controller plans with: mpc_model when given, else model.
@@ -137,6 +140,13 @@ std::vector<std::string> DefaultShareDirs(const std::string& build_tree_dir,
 
 /// The first iterate q_0..q_N (N + 1 configurations, nq each) for `config.initial_guess`.
 std::vector<Eigen::VectorXd> MakeInitialGuess(const ExampleConfig& config);
+
+/// The first iterate of the controller's cold start (N + 1 configurations of
+/// ControllerProblem(config), nq each): MakeInitialGuess(config) when the controller's problem
+/// has the open loop's horizon and initial state and `mpc.problem` names no initial_guess of its
+/// own; otherwise the guess of type mpc_initial_guess (else initial_guess) built for the
+/// controller's problem. The closed loop's plant starts from that problem's q_init, v_init.
+std::vector<Eigen::VectorXd> ControllerInitialGuess(const ExampleConfig& config);
 
 /// Interpolates configurations of `model`: (1 - s) q_a + s q_b for every coordinate except the
 /// quaternions of floating joints, which are slerped (shortest arc, normalized). s in [0, 1].

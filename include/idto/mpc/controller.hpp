@@ -91,7 +91,9 @@ class Controller {
              const MpcOptions& options);
   ~Controller();
 
-  /// Plans from the initial state with `initial_iterations` iterations (a cold start) at t = 0.
+  /// Plans from the initial state with `initial_iterations` (>= 0) iterations (a cold start) at
+  /// t = 0; with 0 the first plan is q_guess itself (N + 1 configurations, nq each), evaluated.
+  /// Throws InvalidArgument for a negative count.
   SolverSummary Initialize(const std::vector<Eigen::VectorXd>& q_guess, int initial_iterations);
 
   /// Re-plans at time t from the measured state (q_hat: nq, v_hat: nv). When the solve fails
