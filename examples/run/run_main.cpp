@@ -470,6 +470,17 @@ void WriteHtml(const Arguments& args, const ExampleConfig& config,
   std::cout << "wrote " << args.html << "\n";
 }
 
+/// Loads the configuration; what its URDF files hold that idto ignores by design (UrdfWarning)
+/// goes to stderr.
+ExampleConfig LoadConfig(const std::string& config_path,
+                         const std::vector<std::string>& share_dirs) {
+  ExampleConfig config = idto::LoadExampleConfig(config_path, share_dirs);
+  for (const idto::UrdfWarning& w : config.urdf_warnings) {
+    std::cerr << "idto-run: warning: " << w.ToString() << "\n";
+  }
+  return config;
+}
+
 /// The output files of the command line, with their flags.
 std::vector<std::pair<std::string, std::string>> OutputFiles(const Arguments& args) {
   return {{"--summary-json", args.summary_json},
@@ -483,7 +494,7 @@ int Run(const Arguments& args, const char* argv0) {
       idto::DefaultShareDirs(IDTO_SOURCE_SHARE_DIR, ExecutablePath(argv0));
   share_dirs.push_back(IDTO_INSTALL_SHARE_DIR);
   const std::string config_path = idto::FindExampleConfig(args.config, share_dirs);
-  ExampleConfig config = idto::LoadExampleConfig(config_path, share_dirs);
+  ExampleConfig config = LoadConfig(config_path, share_dirs);
 
   idto::SolverOptions options = config.solver;
   if (args.max_iterations) options.max_iterations = *args.max_iterations;
@@ -631,7 +642,7 @@ int RunMpc(const Arguments& args, const char* argv0) {
       idto::DefaultShareDirs(IDTO_SOURCE_SHARE_DIR, ExecutablePath(argv0));
   share_dirs.push_back(IDTO_INSTALL_SHARE_DIR);
   const std::string config_path = idto::FindExampleConfig(args.config, share_dirs);
-  ExampleConfig config = idto::LoadExampleConfig(config_path, share_dirs);
+  ExampleConfig config = LoadConfig(config_path, share_dirs);
   idto::MpcConfig mpc = idto::ParseMpcConfig(config);
   if (args.real_time) mpc.closed_loop.real_time = true;
   if (args.keep_workers_awake) mpc.closed_loop.keep_workers_awake = true;

@@ -29,6 +29,15 @@ void BindExample(py::module_& m) {
       .def_property_readonly("task_success", [](const Example& e) { return e.config.task_success; })
       .def_property_readonly(
           "model", [](Example& e) -> Model& { return e.config.model; }, ref)
+      .def_property_readonly(
+          "urdf_warnings",
+          [](const Example& e) {
+            std::vector<std::string> out;
+            for (const UrdfWarning& w : e.config.urdf_warnings) out.push_back(w.ToString());
+            return out;
+          },
+          "What the scene's URDF files hold that idto ignores by design (\"file: element: "
+          "message\" strings, in model order)")
       .def_property(
           "problem", [](Example& e) -> ProblemDefinition& { return e.config.problem; },
           [](Example& e, const ProblemDefinition& p) { e.config.problem = p; }, ref)

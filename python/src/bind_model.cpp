@@ -26,6 +26,16 @@ void CheckData(const char* where, const Model& model, const Data& data) {
   }
 }
 
+/// The URDF's warnings (what it holds that idto ignores by design) as Python UserWarnings, so
+/// that the warnings module shows them (or turns them into errors) instead of their being lost.
+void EmitUrdfWarnings(const std::vector<UrdfWarning>& warnings) {
+  for (const UrdfWarning& w : warnings) {
+    if (PyErr_WarnEx(PyExc_UserWarning, w.ToString().c_str(), 1) != 0) {
+      throw py::error_already_set();
+    }
+  }
+}
+
 void BindUrdf(py::module_& m) {
   py::enum_<BaseType>(m, "BaseType", "How the root of a model is attached to the world.")
       .value("kFixed", BaseType::kFixed)
@@ -61,14 +71,21 @@ void BindUrdf(py::module_& m) {
   m.def(
       "parse_urdf",
       [](const std::string& path, const UrdfOptions& options) {
-        return ParseUrdfFile(path, options);
+        std::vector<UrdfWarning> warnings;
+        Model model = ParseUrdfFile(path, options, &warnings);
+        EmitUrdfWarnings(warnings);
+        return model;
       },
       py::arg("path"), py::arg("options") = UrdfOptions(),
-      "A Model from a URDF file (raises FileError naming the file and element).");
+      "A Model from a URDF file (raises FileError naming the file and element; what the file "
+      "holds that idto ignores by design is reported as a UserWarning).");
   m.def(
       "parse_urdf_string",
       [](const std::string& urdf_xml, const UrdfOptions& options, const std::string& source) {
-        return ParseUrdfString(urdf_xml, options, source);
+        std::vector<UrdfWarning> warnings;
+        Model model = ParseUrdfString(urdf_xml, options, source, &warnings);
+        EmitUrdfWarnings(warnings);
+        return model;
       },
       py::arg("urdf_xml"), py::arg("options") = UrdfOptions(),
       py::arg("source_name") = "<urdf string>");

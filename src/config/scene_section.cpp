@@ -194,7 +194,8 @@ void ConfigLoader::LoadModel(const MapReader& m, ModelBuilder* builder) {
         ReadInscribedSpheres(reader_, m.Get("inscribed_spheres"), m.Path("inscribed_spheres"));
   }
   try {
-    AddUrdfFile(model.urdf_file, model.options, builder);
+    // What the file holds that idto ignores by design is kept for the caller (idto-run prints it).
+    AddUrdfFile(model.urdf_file, model.options, builder, &config_.urdf_warnings);
   } catch (const std::exception& e) {
     reader_.Fail(m.Get("urdf"), m.Path("urdf"),
                  "cannot load '" + model.urdf_file + "': " + e.what());

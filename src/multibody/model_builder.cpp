@@ -1,6 +1,7 @@
 #include "idto/multibody/model_builder.hpp"
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <Eigen/Eigenvalues>
@@ -66,6 +67,32 @@ void CheckInertia(const std::string& where, const std::string& body, const BodyI
 bool JointHasAxis(JointType t) {
   return t == JointType::kRevolute || t == JointType::kContinuous || t == JointType::kPrismatic ||
          t == JointType::kPlanar;
+}
+
+// Fields of a JointSpec that its type does not use must keep their defaults: position limits
+// exist for revolute and prismatic joints only, and a fixed joint has no damping, effort or
+// velocity. A value there would otherwise be dropped without a word.
+void CheckUnusedJointFields(const char* where, const JointSpec& spec) {
+  const std::string joint = "joint " + Quoted(spec.name);
+  const std::string type = JointTypeName(spec.type);
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  const bool has_position_limits =
+      spec.type == JointType::kRevolute || spec.type == JointType::kPrismatic;
+  if (!has_position_limits && (spec.lower_limit != -kInf || spec.upper_limit != kInf)) {
+    ThrowInvalidArgument(
+        where, "limits of " + type + " " + joint,
+        "[" + FormatValue(spec.lower_limit) + ", " + FormatValue(spec.upper_limit) + "]",
+        "[-inf, inf]: only revolute and prismatic joints have position limits");
+  }
+  if (spec.type != JointType::kFixed) return;
+  auto unused = [&](const char* field, double value, double fallback) {
+    if (value == fallback) return;
+    ThrowInvalidArgument(where, std::string(field) + " of fixed " + joint, FormatValue(value),
+                         FormatValue(fallback) + ": a fixed joint does not move");
+  };
+  unused("damping", spec.damping, 0.0);
+  unused("effort limit", spec.effort_limit, kInf);
+  unused("velocity limit", spec.velocity_limit, kInf);
 }
 
 // Every moving body must carry mass (its own, welded or moving below it), and the joint-space
@@ -189,6 +216,7 @@ BodyIndex ModelBuilder::AddBody(const std::string& name, const BodyInertia& iner
         "[" + FormatValue(spec.lower_limit) + ", " + FormatValue(spec.upper_limit) + "]",
         "lower <= upper");
   }
+  CheckUnusedJointFields(kWhere, spec);
   bodies_.push_back(BodyEntry{name, parent, inertia, spec});
   const BodyIndex b = num_bodies() - 1;
   frames_.push_back(FrameEntry{name, b, Eigen::Isometry3d::Identity()});

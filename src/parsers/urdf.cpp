@@ -75,6 +75,11 @@ void CheckOptions(const UrdfOptions& options, const std::vector<UrdfWarning>* wa
                            FormatValue(spheres.radius_fraction), "a number in (0, 0.5]");
     }
   }
+  if (options.base != BaseType::kPlanar && options.planar_normal != Eigen::Vector3d::UnitZ()) {
+    // Only a planar base has a plane: the normal would be dropped.
+    ThrowInvalidArgument(where, "options.planar_normal", FormatVector(options.planar_normal),
+                         "the default (0, 0, 1) unless options.base is BaseType::kPlanar");
+  }
   if (options.unsupported_visuals_as_warnings && warnings == nullptr) {
     ThrowInvalidArgument(where, "warnings", "null with options.unsupported_visuals_as_warnings",
                          "a vector to collect the warnings in (they would be lost otherwise)");
@@ -167,11 +172,18 @@ void CheckMasses(const UrdfDocument& doc, const std::vector<std::string>& order,
   }
 }
 
-/// Geometry names unique within one call (a repeated <collision name> gets "_1", "_2", ...).
-std::string UniqueName(const std::string& name, std::set<std::string>* used) {
+/// Geometry names unique within one call (a repeated <collision name> gets "_1", "_2", ...,
+/// with a warning: contact filters naming it would otherwise silently miss the renamed ones).
+std::string UniqueName(const std::string& name, const std::string& link,
+                       std::set<std::string>* used, UrdfReporter* reporter) {
   std::string candidate = name;
   for (int k = 1; used->count(candidate) > 0; ++k) candidate = name + "_" + std::to_string(k);
   used->insert(candidate);
+  if (candidate != name) {
+    reporter->Warn(LinkElement(link), "collision name '" + name +
+                                          "' is already used in this model; this one is named '" +
+                                          candidate + "'");
+  }
   return candidate;
 }
 
@@ -184,12 +196,14 @@ struct PlannedGeometry {
 
 /// Collision geometry of every link, named (and boxes replaced by spheres when asked).
 std::map<std::string, std::vector<PlannedGeometry>> PlanGeometry(
-    const UrdfDocument& doc, const std::vector<std::string>& order, const UrdfOptions& options) {
+    const UrdfDocument& doc, const std::vector<std::string>& order, const UrdfOptions& options,
+    UrdfReporter* reporter) {
   std::map<std::string, std::vector<PlannedGeometry>> geometry_of;
   std::set<std::string> names;
   for (const std::string& link : order) {
     for (const urdf_internal::UrdfCollision& c : doc.link(link).collisions) {
-      PlannedGeometry g{UniqueName(options.prefix + c.name, &names), c.name, c.X_LG, c.shape};
+      PlannedGeometry g{UniqueName(options.prefix + c.name, link, &names, reporter), c.name, c.X_LG,
+                        c.shape};
       const Box* box = std::get_if<Box>(&c.shape);
       if (box == nullptr || !options.box_inscribed_spheres.has_value()) {
         geometry_of[link].push_back(g);
@@ -200,9 +214,9 @@ std::map<std::string, std::vector<PlannedGeometry>> PlanGeometry(
           InscribedSpheres(*box, *options.box_inscribed_spheres);
       for (std::size_t k = 0; k < spheres.size(); ++k) {
         const std::string suffix = "_sphere" + std::to_string(k);
-        geometry_of[link].push_back(
-            PlannedGeometry{UniqueName(g.name + suffix, &names), g.urdf_name + suffix,
-                            g.X_LG * spheres[k].X_BoxSphere, spheres[k].sphere});
+        geometry_of[link].push_back(PlannedGeometry{
+            UniqueName(g.name + suffix, link, &names, reporter), g.urdf_name + suffix,
+            g.X_LG * spheres[k].X_BoxSphere, spheres[k].sphere});
       }
     }
   }
@@ -302,9 +316,18 @@ BodyIndex AddParsed(const ParsedUrdf& parsed, const UrdfOptions& options, ModelB
     }
   }
   UrdfReporter reporter(parsed.source, options.unsupported_visuals_as_warnings, warnings);
+  if (doc.root == "world" && options.base != BaseType::kFixed) {
+    // The file attaches the model to the world itself: a floating or planar base asked for in
+    // the options could not apply, and would otherwise be dropped without a word.
+    reporter.Error("robot '" + doc.robot_name + "'",
+                   std::string("the root link is 'world' (the file attaches the model to the "
+                               "world), but options.base (a scene model's `base`) is ") +
+                       (options.base == BaseType::kFloating ? "floating" : "planar") +
+                       "; expected fixed (the default) for such a file");
+  }
   const std::vector<std::string> order = DepthFirstOrder(doc);
   CheckMasses(doc, order, options, &reporter);
-  const auto geometry_of = PlanGeometry(doc, order, options);
+  const auto geometry_of = PlanGeometry(doc, order, options, &reporter);
   return AddBodies(parsed, order, geometry_of, options, builder);
 }
 

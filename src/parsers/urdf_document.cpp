@@ -31,6 +31,17 @@ const TiXmlElement& ParseXml(const std::string& xml, const UrdfReporter& reporte
   if (robot == nullptr) {
     reporter.Error("robot", "no <robot> element found; expected a URDF document");
   }
+  // One <robot> and nothing else: TinyXML reads further top-level elements, which would be lost.
+  for (const TiXmlNode* n = document->FirstChild(); n != nullptr; n = n->NextSibling()) {
+    const TiXmlElement* e = n->ToElement();
+    if (n->ToText() != nullptr || (e != nullptr && e != robot)) {
+      const std::string found =
+          e != nullptr ? Tag(*e) : "text \"" + n->ValueStr().substr(0, 40) + "\"";
+      reporter.Error("XML", found + " at the top level (line " + std::to_string(n->Row()) +
+                                "), besides the <robot> of line " + std::to_string(robot->Row()) +
+                                "; expected one <robot> element and nothing else");
+    }
+  }
   return *robot;
 }
 
@@ -155,6 +166,7 @@ UrdfDocument ReadUrdfDocument(const std::string& xml, UrdfReporter* reporter) {
   UrdfDocument doc;
   if (const char* name = robot.Attribute("name")) doc.robot_name = name;
   if (doc.robot_name.empty()) reporter->Error("robot", "the <robot> element has no name attribute");
+  CheckStructuralElement(robot, {"name", "version"}, "robot '" + doc.robot_name + "'", reporter);
   CheckRobotChildren(robot, reporter);
   // Only the direct children of <robot> define the tree (<transmission> has <joint> children).
   AddLinks(robot, reporter, &doc);

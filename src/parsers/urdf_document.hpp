@@ -7,6 +7,7 @@
 // UrdfOptions). Numbers are parsed strictly ("0.O5" is an error naming the attribute and the
 // text; "nan" is the value nan, refused by the range checks that follow).
 
+#include <initializer_list>
 #include <map>
 #include <string>
 #include <string_view>
@@ -81,6 +82,21 @@ Eigen::Isometry3d ReadOrigin(const TiXmlElement& parent, const std::string& elem
                              const std::string& what, const UrdfReporter& reporter);
 /// "<tag>" of an element.
 std::string Tag(const TiXmlElement& e);
+
+// ---- What an element may hold. ----
+
+/// A value element (<origin>, <axis>, <limit>, <dynamics>, <mass>, <inertia>, <parent>,
+/// <child>, a shape): only the attributes in `allowed`, no text, no child element. Anything else
+/// is an error naming `element`, the tag, its line and what was found: a misspelt optional
+/// attribute (<origin ryp="...">, <axis xzy="...">) would otherwise silently take its default.
+void CheckValueElement(const TiXmlElement& e, std::initializer_list<std::string_view> allowed,
+                       const std::string& element, const UrdfReporter& reporter);
+
+/// A structural element (<robot>, <link>, <joint>, <inertial>, <collision>, <visual>,
+/// <geometry>): text is an error; an attribute not in `allowed` (nor an xmlns declaration) is
+/// ignored with a warning.
+void CheckStructuralElement(const TiXmlElement& e, std::initializer_list<std::string_view> allowed,
+                            const std::string& element, UrdfReporter* reporter);
 
 // ---- The document. ----
 

@@ -24,9 +24,12 @@ const std::map<std::string, JointType>& JointTypes() {
   return kTypes;
 }
 
-std::string LinkOf(const TiXmlElement& e, const char* tag) {
+std::string LinkOf(const TiXmlElement& e, const char* tag, const std::string& element,
+                   const UrdfReporter& reporter) {
   const TiXmlElement* link = e.FirstChildElement(tag);
-  if (link == nullptr || link->Attribute("link") == nullptr) return "";
+  if (link == nullptr) return "";
+  CheckValueElement(*link, {"link"}, element, reporter);
+  if (link->Attribute("link") == nullptr) return "";
   return link->Attribute("link");
 }
 
@@ -63,18 +66,24 @@ double ReadRate(const TiXmlElement& limit, const char* attribute, const std::str
   return value > 0.0 ? value : kInf;
 }
 
+/// Reads <limit>. On a fixed joint the numbers are checked and have no effect (nothing moves).
 void ReadLimits(const TiXmlElement& limit, const std::string& element, UrdfReporter* reporter,
                 JointSpec* spec) {
-  spec->effort_limit = ReadRate(limit, "effort", element, *reporter);
-  spec->velocity_limit = ReadRate(limit, "velocity", element, *reporter);
+  CheckValueElement(limit, {"lower", "upper", "effort", "velocity"}, element, *reporter);
+  const bool fixed = spec->type == JointType::kFixed;
+  const double effort = ReadRate(limit, "effort", element, *reporter);
+  const double velocity = ReadRate(limit, "velocity", element, *reporter);
   const bool has_position = limit.Attribute("lower") != nullptr || limit.Attribute("upper");
   const double lower = ReadNumber(limit, "lower", -kInf, element, *reporter);
   const double upper = ReadNumber(limit, "upper", kInf, element, *reporter);
+  if (std::isnan(lower) || std::isnan(upper) || lower > upper) {
+    reporter->Error(element, "<limit> lower = " + FormatValue(lower) + " and upper = " +
+                                 FormatValue(upper) + "; expected lower <= upper");
+  }
+  if (fixed) return;
+  spec->effort_limit = effort;
+  spec->velocity_limit = velocity;
   if (spec->type == JointType::kRevolute || spec->type == JointType::kPrismatic) {
-    if (std::isnan(lower) || std::isnan(upper) || lower > upper) {
-      reporter->Error(element, "<limit> lower = " + FormatValue(lower) + " and upper = " +
-                                   FormatValue(upper) + "; expected lower <= upper");
-    }
     spec->lower_limit = lower;
     spec->upper_limit = upper;
   } else if (has_position) {
@@ -100,8 +109,9 @@ UrdfJoint ReadJoint(const TiXmlElement& e, UrdfReporter* reporter) {
                     "unknown joint type '" + joint.type +
                         "'; expected revolute, continuous, prismatic, fixed, floating or planar");
   }
-  joint.parent = LinkOf(e, "parent");
-  joint.child = LinkOf(e, "child");
+  CheckStructuralElement(e, {"name", "type"}, element, reporter);
+  joint.parent = LinkOf(e, "parent", element, *reporter);
+  joint.child = LinkOf(e, "child", element, *reporter);
   if (joint.parent.empty()) reporter->Error(element, "no <parent link=\"...\"/> given");
   if (joint.child.empty()) reporter->Error(element, "no <child link=\"...\"/> given");
   if (joint.parent == joint.child) {
@@ -115,11 +125,13 @@ UrdfJoint ReadJoint(const TiXmlElement& e, UrdfReporter* reporter) {
   spec.X_PJ = ReadOrigin(e, element, "joint", *reporter);
   const bool has_axis = spec.type == JointType::kRevolute || spec.type == JointType::kContinuous ||
                         spec.type == JointType::kPrismatic || spec.type == JointType::kPlanar;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // the URDF default
+  if (const TiXmlElement* a = e.FirstChildElement("axis")) {
+    // Checked on every joint; a fixed or floating joint has no axis, so there it has no effect.
+    CheckValueElement(*a, {"xyz"}, element, *reporter);
+    axis = ReadVector3(*a, "xyz", axis, element, *reporter);
+  }
   if (has_axis) {
-    Eigen::Vector3d axis = Eigen::Vector3d::UnitX();  // the URDF default
-    if (const TiXmlElement* a = e.FirstChildElement("axis")) {
-      axis = ReadVector3(*a, "xyz", axis, element, *reporter);
-    }
     const double norm = axis.norm();
     if (!std::isfinite(norm) || norm <= 1e-12) {
       reporter->Error(
@@ -128,6 +140,7 @@ UrdfJoint ReadJoint(const TiXmlElement& e, UrdfReporter* reporter) {
     spec.axis = axis / norm;
   }
   if (const TiXmlElement* d = e.FirstChildElement("dynamics")) {
+    CheckValueElement(*d, {"damping", "friction"}, element, *reporter);
     const double damping = ReadNumber(*d, "damping", 0.0, element, *reporter);
     if (!std::isfinite(damping) || damping < 0.0) {
       reporter->Error(element, "<dynamics damping> is " + FormatValue(damping) +
@@ -141,7 +154,7 @@ UrdfJoint ReadJoint(const TiXmlElement& e, UrdfReporter* reporter) {
     }
   }
   if (const TiXmlElement* limit = e.FirstChildElement("limit")) {
-    if (spec.type != JointType::kFixed) ReadLimits(*limit, element, reporter, &spec);
+    ReadLimits(*limit, element, reporter, &spec);
   }
   return joint;
 }

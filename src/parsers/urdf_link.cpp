@@ -59,6 +59,7 @@ BodyInertia ReadInertial(const TiXmlElement& e, const std::string& element,
                                    "); expected <origin>, <mass> and <inertia>");
     }
   }
+  CheckStructuralElement(e, {}, element, reporter);
   const TiXmlElement* mass_xml = e.FirstChildElement("mass");
   const TiXmlElement* inertia_xml = e.FirstChildElement("inertia");
   if (mass_xml == nullptr) {
@@ -69,6 +70,16 @@ BodyInertia ReadInertial(const TiXmlElement& e, const std::string& element,
     reporter->Error(element, "<inertial> (line " + std::to_string(e.Row()) +
                                  ") has no <inertia .../> (write zeros for a point mass)");
   }
+  for (const TiXmlElement* first : {mass_xml, inertia_xml}) {
+    if (const TiXmlElement* second = first->NextSiblingElement(first->Value())) {
+      reporter->Error(element, "<inertial> (line " + std::to_string(e.Row()) + ") has several " +
+                                   Tag(*first) + " elements (lines " +
+                                   std::to_string(first->Row()) + " and " +
+                                   std::to_string(second->Row()) + "); expected one");
+    }
+  }
+  CheckValueElement(*mass_xml, {"value"}, element, *reporter);
+  CheckValueElement(*inertia_xml, {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"}, element, *reporter);
   const double mass = ReadRequiredNumber(*mass_xml, "value", element, *reporter);
   auto entry = [&](const char* name) {
     return ReadRequiredNumber(*inertia_xml, name, element, *reporter);
@@ -99,6 +110,13 @@ bool ReadShape(const TiXmlElement& geometry, const std::string& element, const s
                                  Tag(*s->NextSiblingElement()) + "; expected exactly one shape");
   }
   const std::string tag = s->Value();
+  if (tag == "sphere") {
+    CheckValueElement(*s, {"radius"}, element, *reporter);
+  } else if (tag == "box") {
+    CheckValueElement(*s, {"size"}, element, *reporter);
+  } else if (tag == "cylinder" || tag == "capsule" || tag == "drake:capsule") {
+    CheckValueElement(*s, {"radius", "length"}, element, *reporter);
+  }
   auto size = [&](const char* attribute) {
     const double value = ReadRequiredNumber(*s, attribute, element, *reporter);
     const bool zero_ok = std::string(attribute) == "length" && tag != "cylinder";
@@ -149,6 +167,7 @@ bool ReadCollision(const TiXmlElement& e, const std::string& link, int position,
                         ? std::string(name)
                         : link + "_collision_" + std::to_string(position);
   const std::string what = Describe("collision", collision->name, e);
+  CheckStructuralElement(e, {"name"}, element, reporter);
   const TiXmlElement* geometry = e.FirstChildElement("geometry");
   for (const TiXmlElement* c = e.FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
     const std::string tag = c->Value();
@@ -163,6 +182,7 @@ bool ReadCollision(const TiXmlElement& e, const std::string& link, int position,
     }
   }
   if (geometry == nullptr) reporter->Error(element, what + " has no <geometry>");
+  CheckStructuralElement(*geometry, {}, element, reporter);
   if (!ReadShape(*geometry, element, what, false, reporter, &collision->shape)) return false;
   collision->X_LG = ReadOrigin(e, element, what, *reporter);
   return true;
@@ -175,6 +195,7 @@ void ReadVisual(const TiXmlElement& e, const std::string& link, int position,
   const char* name = e.Attribute("name");
   const std::string what =
       Describe("visual", name != nullptr ? std::string(name) : "#" + std::to_string(position), e);
+  CheckStructuralElement(e, {"name"}, element, reporter);
   for (const TiXmlElement* c = e.FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {
     const std::string tag = c->Value();
     if (tag != "geometry" && tag != "origin" && tag != "material") {
@@ -186,6 +207,7 @@ void ReadVisual(const TiXmlElement& e, const std::string& link, int position,
     reporter->Unsupported(element, what + " has no <geometry>", true);
     return;
   }
+  CheckStructuralElement(*geometry, {}, element, reporter);
   Shape shape;
   ReadShape(*geometry, element, what, true, reporter, &shape);
   ReadOrigin(e, element, what, *reporter);
@@ -202,6 +224,7 @@ UrdfLink ReadLink(const TiXmlElement& e, UrdfReporter* reporter) {
                     "the <link> has no name attribute");
   }
   const std::string element = LinkElement(link.name);
+  CheckStructuralElement(e, {"name"}, element, reporter);
   int collisions = 0;
   int visuals = 0;
   for (const TiXmlElement* c = e.FirstChildElement(); c != nullptr; c = c->NextSiblingElement()) {

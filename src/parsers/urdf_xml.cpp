@@ -178,6 +178,72 @@ std::vector<double> ParseNumbers(const TiXmlElement& e, const char* attribute, c
 
 }  // namespace
 
+// ------------------------------------------------------------------------------------------------
+// What an element may hold.
+
+namespace {
+
+std::string Line(const TiXmlNode& n) { return "(line " + std::to_string(n.Row()) + ")"; }
+
+std::string Join(std::initializer_list<std::string_view> names) {
+  std::string list;
+  for (std::string_view n : names) list += (list.empty() ? "" : ", ") + std::string(n);
+  return list.empty() ? std::string("none") : list;
+}
+
+bool Allowed(const std::string& name, std::initializer_list<std::string_view> allowed) {
+  for (std::string_view a : allowed) {
+    if (name == a) return true;
+  }
+  return false;
+}
+
+/// The text, shortened for a message.
+std::string Excerpt(const std::string& text) {
+  std::string t = text.size() > 40 ? text.substr(0, 40) + "..." : text;
+  return "\"" + t + "\"";
+}
+
+/// Text (or CDATA) inside `e` is an error: URDF values are attributes.
+void CheckNoText(const TiXmlElement& e, const std::string& element, const UrdfReporter& reporter) {
+  for (const TiXmlNode* n = e.FirstChild(); n != nullptr; n = n->NextSibling()) {
+    if (const TiXmlText* text = n->ToText()) {
+      reporter.Error(element, Tag(e) + " " + Line(e) + " holds the text " +
+                                  Excerpt(text->ValueStr()) +
+                                  "; expected none (URDF values are attributes)");
+    }
+  }
+}
+
+}  // namespace
+
+void CheckValueElement(const TiXmlElement& e, std::initializer_list<std::string_view> allowed,
+                       const std::string& element, const UrdfReporter& reporter) {
+  for (const TiXmlAttribute* a = e.FirstAttribute(); a != nullptr; a = a->Next()) {
+    if (!Allowed(a->Name(), allowed)) {
+      reporter.Error(element, Tag(e) + " " + Line(e) + " has an unknown attribute " + a->Name() +
+                                  "=" + Excerpt(a->Value()) + "; expected " + Join(allowed));
+    }
+  }
+  CheckNoText(e, element, reporter);
+  if (const TiXmlElement* child = e.FirstChildElement()) {
+    reporter.Error(element, Tag(e) + " " + Line(e) + " holds an element " + Tag(*child) + " " +
+                                Line(*child) + "; expected none");
+  }
+}
+
+void CheckStructuralElement(const TiXmlElement& e, std::initializer_list<std::string_view> allowed,
+                            const std::string& element, UrdfReporter* reporter) {
+  for (const TiXmlAttribute* a = e.FirstAttribute(); a != nullptr; a = a->Next()) {
+    const std::string name = a->Name();
+    if (Allowed(name, allowed) || name.rfind("xmlns", 0) == 0) continue;
+    reporter->Warn(element, "attribute " + name + "=" + Excerpt(a->Value()) + " of " + Tag(e) +
+                                " " + Line(e) + " ignored (not a URDF attribute of " + Tag(e) +
+                                "; expected " + Join(allowed) + ")");
+  }
+  CheckNoText(e, element, *reporter);
+}
+
 double ReadNumber(const TiXmlElement& e, const char* attribute, double fallback,
                   const std::string& element, const UrdfReporter& reporter) {
   const char* text = e.Attribute(attribute);
@@ -211,6 +277,7 @@ Eigen::Isometry3d ReadOrigin(const TiXmlElement& parent, const std::string& elem
   if (origin->NextSiblingElement("origin") != nullptr) {
     reporter.Error(element, what + " has several <origin> elements; expected at most one");
   }
+  CheckValueElement(*origin, {"xyz", "rpy"}, element, reporter);
   const Eigen::Vector3d xyz =
       ReadVector3(*origin, "xyz", Eigen::Vector3d::Zero(), element, reporter);
   const Eigen::Vector3d rpy =

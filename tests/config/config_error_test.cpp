@@ -300,7 +300,7 @@ TEST(ConfigErrorTest, Contact) {
               ThrowsMessage<FileError>(AllOf(HasSubstr("scene.contact.stiffness"),
                                              HasSubstr("is -5"), HasSubstr("positive"))));
   EXPECT_THAT(
-      Loading(contact_with("excluded_pairs: [[upper_link, elbow_link]]")),
+      Loading(contact_with("excluded_pairs: [['*', elbow_link]]")),
       ThrowsMessage<FileError>(AllOf(HasSubstr("scene.contact.excluded_pairs[0][1]"),
                                      HasSubstr("'elbow_link'"), HasSubstr("a body name, or '*'"))));
   EXPECT_THAT(Loading(contact_with("excluded_pairs: [[upper_link]]")),

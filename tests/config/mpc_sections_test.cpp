@@ -116,32 +116,51 @@ TEST(ConfigTest, MpcContactReplacesTheControllersLawParametersOnly) {
 // mpc.contact.overrides: appended after the scene's (later overrides win) in the controller's
 // problem only; the open-loop problem and the plants keep the scene's.
 TEST(ConfigTest, MpcContactOverridesFollowTheScenesInTheControllerOnly) {
+  // The acrobot has no collision geometry of its own: a ball at the tip of its lower link and the
+  // ground (the upper link is hinged to the world, so nothing on it meets the ground).
   const std::string scene = With("    - urdf: acrobot.urdf\n",
-                                 "    - urdf: acrobot.urdf\n  contact: {smoothing: 0.01, "
-                                 "overrides: [{a: upper_link, b: \"*\", smoothing: 0.005}]}\n");
+                                 "    - urdf: acrobot.urdf\n  geometry:\n"
+                                 "    - {name: ground, shape: half_space, position: [0, 0, -3]}\n"
+                                 "    - {name: elbow_ball, shape: sphere, radius: 0.1, "
+                                 "body: upper_link, position: [0, 0, -1]}\n"
+                                 "    - {name: tip_ball, shape: sphere, radius: 0.1, "
+                                 "body: lower_link, position: [0, 0, -1]}\n"
+                                 "  contact: {smoothing: 0.01, "
+                                 "overrides: [{a: lower_link, b: \"*\", smoothing: 0.005}]}\n");
   const ExampleConfig config = LoadText(scene + R"(mpc:
-  contact: {smoothing: 0.002, overrides: [{a: lower_link, b: "*", smoothing: 0.02, stiffness: 900}]}
+  contact: {smoothing: 0.002, overrides: [{a: tip_ball, b: ground, smoothing: 0.02, stiffness: 900}]}
 )");
   ASSERT_EQ(config.problem.contact.overrides.size(), 1u);
-  EXPECT_EQ(config.problem.contact.overrides[0].a, "upper_link");
+  EXPECT_EQ(config.problem.contact.overrides[0].a, "lower_link");
   ASSERT_TRUE(config.mpc_problem.has_value());
   const ContactOptions& c = config.mpc_problem->contact;
   EXPECT_DOUBLE_EQ(c.parameters.smoothing, 0.002);
   ASSERT_EQ(c.overrides.size(), 2u);
-  EXPECT_EQ(c.overrides[0].a, "upper_link");
+  EXPECT_EQ(c.overrides[0].a, "lower_link");
   EXPECT_DOUBLE_EQ(*c.overrides[0].smoothing, 0.005);
-  EXPECT_EQ(c.overrides[1].a, "lower_link");
-  EXPECT_EQ(c.overrides[1].b, "*");
+  EXPECT_EQ(c.overrides[1].a, "tip_ball");
+  EXPECT_EQ(c.overrides[1].b, "ground");
   EXPECT_DOUBLE_EQ(*c.overrides[1].smoothing, 0.02);
   EXPECT_DOUBLE_EQ(*c.overrides[1].stiffness, 900);
   EXPECT_FALSE(c.overrides[1].friction_coefficient.has_value());
   ASSERT_EQ(ParseMpcConfig(config).mujoco.pairs.overrides.size(), 1u);
-  EXPECT_THAT(Loading(kBase + "mpc:\n  contact: {overrides: [{a: no_such_body, b: \"*\"}]}\n"),
+  EXPECT_THAT(Loading(scene + "mpc:\n  contact: {overrides: [{a: no_such_body, b: \"*\"}]}\n"),
               ThrowsMessage<FileError>(
                   AllOf(HasSubstr("mpc.contact.overrides[0].a"), HasSubstr("no_such_body"))));
   EXPECT_THAT(
-      Loading(kBase + "mpc:\n  contact: {overrides: [{a: upper_link, b: \"*\", smoothing: 0}]}\n"),
+      Loading(scene + "mpc:\n  contact: {overrides: [{a: lower_link, b: \"*\", smoothing: 0}]}\n"),
       ThrowsMessage<FileError>(HasSubstr("mpc.contact.overrides[0].smoothing")));
+  // An override that changes no evaluated pair is refused, in mpc.contact as in scene.contact:
+  // the two links are hinged to each other, the upper link to the world.
+  for (const std::string pair : {"{a: upper_link, b: lower_link}", "{a: elbow_ball, b: ground}"}) {
+    EXPECT_THAT(Loading(scene + "mpc:\n  contact: {overrides: [" + pair.substr(0, pair.size() - 1) +
+                        ", smoothing: 0.1}]}\n"),
+                ThrowsMessage<FileError>(AllOf(HasSubstr("mpc.contact.overrides[0]"),
+                                               HasSubstr("matches no contact pair that is "
+                                                         "evaluated"),
+                                               HasSubstr("hinged"))))
+        << pair;
+  }
 }
 
 TEST(ConfigTest, MpcContactAndProblemCombine) {

@@ -3,6 +3,10 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <limits>
+#include <string>
+
 #include "idto/idto.hpp"
 #include "support/eigen_matchers.hpp"
 
@@ -142,6 +146,53 @@ TEST(ModelBuilder, ErrorsNameTheBodyTheValueAndWhatWasExpected) {
               ThrowsMessage<InvalidArgument>(HasSubstr("radius of geometry \"g\" is -1")));
   EXPECT_THAT([&] { builder.AddFrame("link", 1, Eigen::Isometry3d::Identity()); },
               ThrowsMessage<InvalidArgument>(HasSubstr("frame name is \"link\" (already used)")));
+}
+
+// A JointSpec field the joint type does not use used to be dropped without a word: position
+// limits exist on revolute and prismatic joints only, and a fixed joint has no damping, effort
+// or velocity.
+TEST(ModelBuilder, FieldsTheJointTypeDoesNotUseAreErrors) {
+  ModelBuilder builder;
+  const BodyIndex base = builder.AddBody("base", UnitInertia(), kWorldBody, Revolute("hinge"));
+  int n = 0;
+  auto add = [&](JointType type, const std::function<void(JointSpec*)>& set) {
+    JointSpec j = Revolute("j" + std::to_string(++n));
+    j.type = type;
+    set(&j);
+    builder.AddBody("b" + std::to_string(n), UnitInertia(), base, j);
+  };
+  const std::string kOnlyRevolute = "only revolute and prismatic joints have position limits";
+  for (JointType type :
+       {JointType::kContinuous, JointType::kFloating, JointType::kPlanar, JointType::kFixed}) {
+    SCOPED_TRACE(JointTypeName(type));
+    EXPECT_THAT([&] { add(type, [](JointSpec* j) { j->lower_limit = -1.0; }); },
+                ThrowsMessage<InvalidArgument>(
+                    AllOf(HasSubstr("limits of " + JointTypeName(type) + " joint \"j"),
+                          HasSubstr("is [-1, inf]"), HasSubstr(kOnlyRevolute))));
+    EXPECT_THAT([&] { add(type, [](JointSpec* j) { j->upper_limit = 2.0; }); },
+                ThrowsMessage<InvalidArgument>(HasSubstr("is [-inf, 2]")));
+  }
+  EXPECT_THAT([&] { add(JointType::kFixed, [](JointSpec* j) { j->damping = 0.5; }); },
+              ThrowsMessage<InvalidArgument>(
+                  AllOf(HasSubstr("damping of fixed joint \"j"), HasSubstr("is 0.5"),
+                        HasSubstr("expected 0: a fixed joint does not move"))));
+  EXPECT_THAT([&] { add(JointType::kFixed, [](JointSpec* j) { j->effort_limit = 3.0; }); },
+              ThrowsMessage<InvalidArgument>(HasSubstr("effort limit of fixed joint")));
+  EXPECT_THAT([&] { add(JointType::kFixed, [](JointSpec* j) { j->velocity_limit = 3.0; }); },
+              ThrowsMessage<InvalidArgument>(HasSubstr("velocity limit of fixed joint")));
+  // The fields a joint does use are taken; infinite limits are the defaults, not values.
+  add(JointType::kContinuous, [](JointSpec* j) {
+    j->damping = 0.1;
+    j->effort_limit = 2.0;
+    j->velocity_limit = 3.0;
+  });
+  add(JointType::kFixed, [](JointSpec* j) { j->axis = Eigen::Vector3d::UnitX(); });
+  const Model model = builder.Build();
+  EXPECT_EQ(model.nv(), 2);
+  EXPECT_EQ(model.damping()(1), 0.1);
+  EXPECT_EQ(model.effort_limits()(1), 2.0);
+  EXPECT_EQ(model.velocity_limits()(1), 3.0);
+  EXPECT_EQ(model.position_lower_limits()(1), -std::numeric_limits<double>::infinity());
 }
 
 TEST(ModelBuilder, BuildRejectsMovingBodiesWithoutMass) {

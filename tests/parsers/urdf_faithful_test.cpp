@@ -329,12 +329,18 @@ TEST(UrdfDepth, DeepNestingIsAFileErrorNotACrash) {
   EXPECT_THAT([&] { ParseUrdfString(xml, {}, "bomb.urdf"); },
               ThrowsMessage<FileError>(
                   AllOf(HasSubstr("bomb.urdf"), HasSubstr("nested more than 256 deep"))));
-  // Comments, CDATA, declarations, self-closing tags and quoted '>' do not count.
+  // Comments, CDATA, declarations, self-closing tags and quoted '>' do not count: the depth is
+  // fine, and the parse goes on to the next problem (the CDATA is text in <robot>).
   std::string fine = "<?xml version='1.0'?><!DOCTYPE robot><robot name='r'><!-- <a><a> -->";
   for (int i = 0; i < 300; ++i) fine += "<link name='l" + std::to_string(i) + "' x='>'/>";
   fine += "<![CDATA[<a><a><a>]]></robot>";
+  EXPECT_THAT(
+      [&] { ParseUrdfString(fine); },
+      ThrowsMessage<FileError>(AllOf(HasSubstr("<robot> (line 1) holds the text"),
+                                     HasSubstr("<a><a><a>"), ::testing::Not(HasSubstr("nested")))));
+  fine.replace(fine.find("<![CDATA["), std::string("<![CDATA[<a><a><a>]]>").size(), "");
   EXPECT_THAT([&] { ParseUrdfString(fine); },
-              ThrowsMessage<FileError>(HasSubstr("several root links")));  // depth is fine
+              ThrowsMessage<FileError>(HasSubstr("several root links")));
 }
 
 }  // namespace

@@ -367,8 +367,17 @@ TEST(UrdfBase, UrdfPlanarAndFloatingJoints) {
 
 TEST(UrdfBase, WorldRootIsTheWorld) {
   UrdfOptions options;
-  options.base = BaseType::kFloating;  // not used: the URDF's world link attaches the model
   options.X_WB = Pose(Eigen::Vector3d(0, 0, 1), Eigen::Matrix3d::Identity());
+  // The URDF's world link attaches the model: a floating or planar base could not apply, and is
+  // refused rather than dropped.
+  for (BaseType base : {BaseType::kFloating, BaseType::kPlanar}) {
+    UrdfOptions moving = options;
+    moving.base = base;
+    EXPECT_THAT([&] { ParseUrdfFile(DataPath("world_root.urdf"), moving); },
+                ThrowsMessage<FileError>(
+                    AllOf(HasSubstr("world_root.urdf"), HasSubstr("the root link is 'world'"),
+                          HasSubstr("options.base"), HasSubstr("expected fixed"))));
+  }
   const Model model = ParseUrdfFile(DataPath("world_root.urdf"), options);
   EXPECT_EQ(model.nq(), 1);
   EXPECT_EQ(model.num_bodies(), 3);  // world, cart, post
@@ -772,6 +781,16 @@ TEST(UrdfErrors, BadOptions) {
   options.planar_normal.setZero();
   EXPECT_THROW(ParseUrdfFile(DataPath("pendulum.urdf"), options), InvalidArgument);
   EXPECT_THROW(AddUrdfFile(DataPath("pendulum.urdf"), {}, nullptr), InvalidArgument);
+  // A plane normal without a planar base would not be used.
+  for (BaseType base : {BaseType::kFixed, BaseType::kFloating}) {
+    UrdfOptions unused;
+    unused.base = base;
+    unused.planar_normal = Eigen::Vector3d(0, 1, 0);
+    EXPECT_THAT([&] { ParseUrdfFile(DataPath("pendulum.urdf"), unused); },
+                ThrowsMessage<InvalidArgument>(
+                    AllOf(HasSubstr("options.planar_normal is (0, 1, 0)"),
+                          HasSubstr("unless options.base is BaseType::kPlanar"))));
+  }
 }
 
 TEST(UrdfErrors, BadInscribedSpheresOptions) {

@@ -1,5 +1,7 @@
 """Models, Data and the dynamics kernels; error mapping and argument checks."""
 
+import warnings
+
 import numpy as np
 import pytest
 
@@ -92,6 +94,28 @@ def test_urdf_errors_map_to_python_exceptions(tmp_path):
     bad_X[0, 0] = 2.0
     with pytest.raises(ValueError, match="X_WB"):
         idto.UrdfOptions().X_WB = bad_X
+
+
+def test_urdf_warnings_are_python_warnings():
+    # box.urdf on a fixed base: its mass does not move. Reported, not lost.
+    with pytest.warns(UserWarning, match="box.urdf: link 'box': mass 0.55 ignored"):
+        model = idto.parse_urdf(model_path("box.urdf"))
+    assert model.nq() == 0
+    with pytest.warns(UserWarning, match="attribute colour=\"red\" of <link>"):
+        idto.parse_urdf_string("<robot name='r'><link name='a' colour='red'/></robot>",
+                               idto.UrdfOptions(), "case.urdf")
+    # The warnings module decides what becomes of them, errors included.
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        with pytest.raises(UserWarning, match="box.urdf"):
+            idto.parse_urdf(model_path("box.urdf"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        idto.parse_urdf(model_path("pendulum.urdf"))  # nothing to report
+    # A scene's: listed on the Example (both arms of the bimanual scene sit on a massive base).
+    assert idto.load_example("pendulum").urdf_warnings == []
+    bimanual = idto.load_example("bimanual").urdf_warnings
+    assert len(bimanual) == 2 and all("jaco_arm.urdf: link 'base': mass" in w for w in bimanual)
 
 
 def test_kinematics_dynamics_jacobians(quadruped_model):

@@ -100,6 +100,8 @@ inline Model RandomTreeModel(std::uint32_t seed, const RandomTreeOptions& option
       j.type = JointType::kFloating;
       placed_floating = true;
     }
+    // A fixed joint has no damping (ModelBuilder refuses it); the draw above keeps the sequence.
+    if (j.type == JointType::kFixed) j.damping = 0.0;
     const BodyIndex parent = static_cast<BodyIndex>(rng.engine()() % (i - 1)) + 1;
     builder.AddBody("body" + std::to_string(i), RandomInertia(&rng), parent, j);
   }

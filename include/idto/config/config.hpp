@@ -70,8 +70,12 @@ struct ExampleConfig {
 
   std::vector<SceneModelConfig> models;  ///< the scene's URDF models, in order
   Model model;                           ///< the scene as one Model
-  ProblemDefinition problem;             ///< validated against `model`
-  SolverOptions solver;                  ///< valid (SolverOptions::IsValid)
+  /// What the scene's URDF files contain that idto ignores by design (UrdfWarning, naming the
+  /// file and the element: a <transmission>, <dynamics friction>, mass on a link welded to the
+  /// world, ...), in model order. idto-run prints them on stderr; Python: Example.urdf_warnings.
+  std::vector<UrdfWarning> urdf_warnings;
+  ProblemDefinition problem;  ///< validated against `model`
+  SolverOptions solver;       ///< valid (SolverOptions::IsValid)
   InitialGuessType initial_guess{InitialGuessType::kInterpolate};
 
   /// The `mpc` section (model predictive control options, idto/config/mpc_config.hpp), read and

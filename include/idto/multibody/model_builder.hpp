@@ -48,11 +48,14 @@ class ModelBuilder {
   /// Adds a body attached to `parent` by `joint`. Throws InvalidArgument (naming the body and
   /// the value) on a duplicate body or joint name, an unknown parent, a non-finite pose, a zero
   /// axis, negative damping, limits that are NaN, non-positive (effort, velocity) or inverted
-  /// (lower > upper), or mass properties that are not physical (negative mass, inertia not
-  /// symmetric positive semi-definite or violating the triangle inequality). The limits are
-  /// set here, through `joint` (JointSpec::lower_limit, upper_limit, velocity_limit,
-  /// effort_limit). A body may be a point mass (zero rotational inertia) or even massless, as
-  /// long as the model's joint-space mass matrix is positive definite (checked by Build()).
+  /// (lower > upper), a field the joint type does not use that is not at its default (finite
+  /// position limits on a joint other than revolute or prismatic; damping, an effort or a
+  /// velocity limit on a fixed joint: they would be dropped), or mass properties that are not
+  /// physical (negative mass, inertia not symmetric positive semi-definite or violating the
+  /// triangle inequality). The limits are set here, through `joint` (JointSpec::lower_limit,
+  /// upper_limit, velocity_limit, effort_limit). A body may be a point mass (zero rotational
+  /// inertia) or even massless, as long as the model's joint-space mass matrix is positive
+  /// definite (checked by Build()).
   BodyIndex AddBody(const std::string& name, const BodyInertia& inertia, BodyIndex parent,
                     const JointSpec& joint);
 

@@ -16,6 +16,7 @@
 ///    joint limits (Model::position_lower_limits(), position_upper_limits(), velocity_limits(),
 ///    effort_limits()); an absent <limit> or attribute means no limit (a revolute joint without
 ///    <limit> is unbounded, with unlimited effort), and velocity="0" or effort="0" mean none.
+///    On a fixed joint, <axis>, <limit> and <dynamics> are checked and have no effect.
 ///  - <inertial>: mass, centre of mass (<origin xyz>) and the inertia tensor given in the frame
 ///    rotated by <origin rpy>: I_BBcm_B = R I R^T. A link without <inertial> has no mass. Point
 ///    masses (zero rotational inertia) and massless links are accepted when the model's
@@ -24,14 +25,19 @@
 ///    along z, full `length` between the cap centres for the capsule) become Sphere, Box,
 ///    Cylinder and Capsule with X_BG = the collision <origin>. A geometry is named after its
 ///    <collision name="...">, or "<link>_collision_<i>" with i the position of the <collision>
-///    element in its link; repeated names get "_1", "_2", ... appended. With
-///    UrdfOptions::box_inscribed_spheres, each box is replaced by its inscribed spheres, named
-///    "<geometry>_sphere<i>".
+///    element in its link; repeated names get "_1", "_2", ... appended, with a UrdfWarning.
+///    With UrdfOptions::box_inscribed_spheres, each box is replaced by its inscribed spheres,
+///    named "<geometry>_sphere<i>".
 ///  - Nothing is silently dropped: an element idto cannot represent (a <mesh> or unknown shape,
 ///    an unknown element, <mimic>) is a FileError naming the file, the link or joint and the
-///    element. Visual geometry is read and checked but not kept; an unsupported visual element
-///    (a visual <mesh>) is an error too unless UrdfOptions::unsupported_visuals_as_warnings is
-///    set. Elements ignored by design (<transmission>, <gazebo>, <safety_controller>,
+///    element. So are an unknown attribute, text or a child element in an element that holds
+///    values (<origin ryp="...">, <axis xzy="...">, <limit lowr="...">, <origin>0 0 1</origin>:
+///    the value would silently take its default), several <mass> or <inertia> in one
+///    <inertial>, and a second top-level element besides <robot>. An unknown attribute of
+///    <robot>, <link>, <joint>, <inertial>, <collision>, <visual> or <geometry> gives a
+///    UrdfWarning. Visual geometry is read and checked but not kept; an unsupported visual
+///    element (a visual <mesh>) is an error too unless UrdfOptions::unsupported_visuals_as_warnings
+///    is set. Elements ignored by design (<transmission>, <gazebo>, <safety_controller>,
 ///    <calibration>, <dynamics friction>, <drake:proximity_properties>, mass on a link welded to
 ///    the world) give a UrdfWarning.
 ///  - Every body, joint, frame and geometry name gets UrdfOptions::prefix prepended.
@@ -39,15 +45,17 @@
 ///    prefix + root link + "_root_joint" (for example "ball_root_joint"). A root link named
 ///    "world" instead stands for the world itself: its child joints attach to the world body
 ///    (their <origin> composed with X_WB), its collision geometry goes to the world, and
-///    UrdfOptions::base is not used; with a non-empty prefix a frame prefix + "world" marks X_WB
-///    on the world body. Joints may name a parent link "world" that the file does not declare
-///    (the implicit world of many URDFs); mass on a world link is ignored with a warning.
+///    UrdfOptions::base must be kFixed (a floating or planar base could not apply: FileError);
+///    with a non-empty prefix a frame prefix + "world" marks X_WB on the world body. Joints may
+///    name a parent link "world" that the file does not declare (the implicit world of many
+///    URDFs); mass on a world link is ignored with a warning.
 ///
 /// Errors are FileError naming the file (or `source_name`), the element, and the value found,
 /// e.g. "arm.urdf: joint 'elbow': <axis xyz> is (0, 0, 0); expected a non-zero finite vector" or
 /// "arm.urdf: link 'foot': <mass value> is \"1O\"; expected a number". Elements nested deeper than
 /// kMaxUrdfDepth are refused before parsing. Options that are not valid (a zero planar normal, a
-/// non-finite X_WB, a null builder) throw InvalidArgument.
+/// planar normal without a planar base, a non-finite X_WB, a null builder) throw
+/// InvalidArgument.
 ///
 /// Thread safety: the functions may be called from several threads.
 
@@ -87,7 +95,8 @@ struct UrdfOptions {
   BaseType base{BaseType::kFixed};
   /// Pose of the root's joint frame in the world (for a fixed base: the pose of the root link).
   Eigen::Isometry3d X_WB{Eigen::Isometry3d::Identity()};
-  /// Normal of the plane of a planar base (default z: coordinates x, y, yaw).
+  /// Normal of the plane of a planar base (default z: coordinates x, y, yaw). Another value
+  /// with a base that is not kPlanar is an InvalidArgument (it would not be used).
   Eigen::Vector3d planar_normal{Eigen::Vector3d::UnitZ()};
   /// Prepended to every body, joint, frame and geometry name of this model (scenes use it to
   /// keep names unique, e.g. "left_" and "right_").
