@@ -366,6 +366,13 @@ void WriteOutputs(const Arguments& a, const CampaignSettings& settings,
   std::cout << markdown;
 }
 
+/// What the example's URDF files hold that idto ignores by design (UrdfWarning), on stderr.
+void PrintUrdfWarnings(const idto::ExampleConfig& config) {
+  for (const idto::UrdfWarning& w : config.urdf_warnings) {
+    std::cerr << "idto-campaign: warning: " << w.ToString() << "\n";
+  }
+}
+
 int Run(const Arguments& a, const char* argv0) {
   if (a.merging) {
     std::vector<std::string> texts;
@@ -387,6 +394,8 @@ int Run(const Arguments& a, const char* argv0) {
   share_dirs.push_back(IDTO_INSTALL_SHARE_DIR);
   const idto::ExampleConfig config =
       idto::LoadExampleConfig(idto::FindExampleConfig(a.name, share_dirs), share_dirs);
+  // Once per campaign: the child processes (--run-index) load the same files.
+  if (!a.run_index) PrintUrdfWarnings(config);
   std::vector<RunResult> runs;
   if (a.run_index) {
     std::string csv;

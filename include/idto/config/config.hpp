@@ -72,7 +72,8 @@ struct ExampleConfig {
   Model model;                           ///< the scene as one Model
   /// What the scene's URDF files contain that idto ignores by design (UrdfWarning, naming the
   /// file and the element: a <transmission>, <dynamics friction>, mass on a link welded to the
-  /// world, ...), in model order. idto-run prints them on stderr; Python: Example.urdf_warnings.
+  /// world, ...), in model order. idto-run and idto-campaign print them on stderr; Python:
+  /// Example.urdf_warnings.
   std::vector<UrdfWarning> urdf_warnings;
   ProblemDefinition problem;  ///< validated against `model`
   SolverOptions solver;       ///< valid (SolverOptions::IsValid)
