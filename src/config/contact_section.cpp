@@ -3,7 +3,6 @@
 
 #include <string>
 #include <utility>
-#include <variant>
 #include <vector>
 
 #include "config_loader.hpp"
@@ -21,44 +20,6 @@ std::vector<std::string> ContactKeys() {
   keys.insert(keys.end(), {"force_tolerance", "excluded_pairs", "included_pairs",
                            "collision_groups", "overrides"});
   return keys;
-}
-
-bool Matches(const Model& model, const std::string& name, GeometryIndex g) {
-  const GeometryInstance& geo = model.geometries()[g];
-  return name == "*" || name == geo.name || name == model.body_name(geo.body);
-}
-
-bool PairMatches(const Model& model, const std::string& a, const std::string& b, GeometryIndex ga,
-                 GeometryIndex gb) {
-  return (Matches(model, a, ga) && Matches(model, b, gb)) ||
-         (Matches(model, a, gb) && Matches(model, b, ga));
-}
-
-/// True when (a, b) matches two geometries that could touch: on different rigid bodies, not two
-/// half-spaces (the pairs ContactEngine considers before its filters).
-bool MatchesAPossiblePair(const Model& model, const std::string& a, const std::string& b) {
-  const std::vector<GeometryInstance>& geos = model.geometries();
-  const GeometryIndex ng = static_cast<GeometryIndex>(geos.size());
-  for (GeometryIndex ga = 0; ga < ng; ++ga) {
-    for (GeometryIndex gb = ga + 1; gb < ng; ++gb) {
-      if (model.mobilized_body(geos[ga].body) == model.mobilized_body(geos[gb].body)) continue;
-      if (std::holds_alternative<HalfSpace>(geos[ga].shape) &&
-          std::holds_alternative<HalfSpace>(geos[gb].shape)) {
-        continue;
-      }
-      if (PairMatches(model, a, b, ga, gb)) return true;
-    }
-  }
-  return false;
-}
-
-/// True when (a, b) matches a pair that `engine` evaluates.
-bool MatchesAnEvaluatedPair(const Model& model, const ContactEngine& engine, const std::string& a,
-                            const std::string& b) {
-  for (const ContactPair& p : engine.pairs()) {
-    if (PairMatches(model, a, b, p.geometry_a, p.geometry_b)) return true;
-  }
-  return false;
 }
 
 std::string PairText(const std::string& a, const std::string& b) {
@@ -95,14 +56,14 @@ void ConfigLoader::LoadContact(const YAML::Node& node, const std::string& path) 
   }
   if (c.Has("included_pairs")) {
     options.included_pairs = ReadPairs(c.Get("included_pairs"), c.Path("included_pairs"));
-    // An entry that matches no two geometries that could touch would include nothing.
+    // An entry that matches no two geometries that could touch would include nothing (the
+    // check ContactEngine makes, here with the entry's key and line).
     for (std::size_t i = 0; i < options.included_pairs.size(); ++i) {
       const auto& [a, b] = options.included_pairs[i];
-      if (!MatchesAPossiblePair(config_.model, a, b)) {
-        reader_.Fail(c.Get("included_pairs")[i], At(c.Path("included_pairs"), i),
-                     PairText(a, b) +
-                         " matches no two geometries on different bodies (geometries on one "
-                         "body, or all on the world, never touch); expected a pair that can touch");
+      const std::string expected = IncludedPairProblem(config_.model, a, b);
+      if (!expected.empty()) {
+        reader_.FailValue(c.Get("included_pairs")[i], At(c.Path("included_pairs"), i),
+                          PairText(a, b), expected);
       }
     }
   }
@@ -118,11 +79,12 @@ void ConfigLoader::LoadContactGroups(const YAML::Node& groups, const std::string
   }
   for (std::size_t i = 0; i < groups.size(); ++i) {
     const YAML::Node group = groups[i];
-    if (!group.IsSequence() || group.size() < 2) {
-      // A group of one name leaves out only pairs on one body, which never touch anyway.
-      reader_.FailValue(group, At(path, i), Describe(group),
-                        "a list of at least two names (pairs within a group are not evaluated)");
+    if (!group.IsSequence()) {
+      reader_.FailValue(group, At(path, i), Describe(group), "a list of names");
     }
+    // A group of one name leaves out only pairs on one body, which never touch anyway.
+    const std::string expected = CollisionGroupProblem(group.size());
+    if (!expected.empty()) reader_.FailValue(group, At(path, i), Describe(group), expected);
     std::vector<std::string> names;
     for (std::size_t j = 0; j < group.size(); ++j) {
       names.push_back(ContactName(group[j], At(At(path, i), j)));
@@ -159,16 +121,14 @@ void ConfigLoader::LoadContactOverrides(const YAML::Node& overrides, const std::
     if (o.Has("stiction_velocity")) {
       entry.stiction_velocity = o.Positive("stiction_velocity", 0.0);
     }
-    // An override that changes no evaluated pair would be lost (unless contact is off).
-    if (enable_contact_ && !MatchesAnEvaluatedPair(config_.model, engine, entry.a, entry.b)) {
-      const bool possible = MatchesAPossiblePair(config_.model, entry.a, entry.b);
-      reader_.Fail(overrides[i], At(path, i),
-                   PairText(entry.a, entry.b) + " matches no contact pair that is evaluated (" +
-                       (possible ? "every pair it matches is left out by scene.contact's "
-                                   "excluded_pairs, included_pairs or collision_groups, or joins "
-                                   "two bodies hinged to each other"
-                                 : "it matches no two geometries on different bodies") +
-                       "); expected a pair whose parameters it would change");
+    // An override that changes no evaluated pair would be lost (unless contact is off): the
+    // check ContactEngine makes, here with the entry's key and line.
+    const std::string expected = enable_contact_
+                                     ? ContactOverrideProblem(config_.model, engine.pairs(),
+                                                              entry.a, entry.b, "scene.contact's")
+                                     : std::string();
+    if (!expected.empty()) {
+      reader_.FailValue(overrides[i], At(path, i), PairText(entry.a, entry.b), expected);
     }
     contact_.overrides.push_back(std::move(entry));
   }
@@ -176,30 +136,10 @@ void ConfigLoader::LoadContactOverrides(const YAML::Node& overrides, const std::
 
 std::string ConfigLoader::ContactName(const YAML::Node& node, const std::string& path) const {
   const std::string name = reader_.String(node, path);
-  if (name == "*") return name;
-  const Model& model = config_.model;
-  for (const GeometryInstance& g : model.geometries()) {
-    if (g.name == name) return name;
-  }
-  if (model.HasBody(name)) {
-    // A body name stands for the geometry attached to that body, not to the bodies welded to it.
-    const BodyIndex body = model.GetBodyIndex(name);
-    for (const GeometryInstance& g : model.geometries()) {
-      if (g.body == body) return name;
-    }
-    reader_.Fail(node, path,
-                 "body '" + name +
-                     "' has no collision geometry (a body name stands for the geometry "
-                     "attached to that body, not to bodies welded to it), so it would match "
-                     "nothing; expected a geometry name, a body with geometry, or '*'");
-  }
-  std::vector<std::string> geometry_names;
-  for (const GeometryInstance& g : model.geometries()) geometry_names.push_back(g.name);
-  reader_.FailValue(node, path, "'" + name + "'",
-                    "a geometry name (" +
-                        (geometry_names.empty() ? std::string("the scene has none")
-                                                : JoinNames(geometry_names, 20)) +
-                        "), a body name, or '*'");
+  // The check ContactEngine makes, here with the entry's key and line.
+  const std::string expected = ContactNameProblem(config_.model, name);
+  if (!expected.empty()) reader_.FailValue(node, path, "'" + name + "'", expected);
+  return name;
 }
 
 std::vector<std::pair<std::string, std::string>> ConfigLoader::ReadPairs(

@@ -9,6 +9,7 @@
 #include "idto/core/errors.hpp"
 #include "idto/geometry/analytic_distance-inl.hpp"
 #include "idto/geometry/signed_distance.hpp"
+#include "pair_matching.hpp"
 
 namespace idto {
 
@@ -16,24 +17,15 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-bool Matches(const Model& model, const std::string& name, GeometryIndex g) {
-  const GeometryInstance& geo = model.geometries()[g];
-  return name == "*" || name == geo.name || name == model.body_name(geo.body);
-}
+using contact_internal::CanTouch;
+using contact_internal::NameMatches;
+using contact_internal::PairMatches;
 
-bool PairMatches(const Model& model, const std::string& a, const std::string& b, GeometryIndex ga,
-                 GeometryIndex gb) {
-  return (Matches(model, a, ga) && Matches(model, b, gb)) ||
-         (Matches(model, a, gb) && Matches(model, b, ga));
-}
+std::string Quote(const std::string& name) { return "\"" + name + "\""; }
 
 void CheckName(const Model& model, const std::string& option, const std::string& name) {
-  if (name == "*" || model.HasBody(name)) return;
-  for (const GeometryInstance& g : model.geometries()) {
-    if (g.name == name) return;
-  }
-  ThrowInvalidArgument("ContactEngine", option, "\"" + name + "\"",
-                       "the name of a geometry or body of model \"" + model.name() + "\", or *");
+  const std::string expected = ContactNameProblem(model, name);
+  if (!expected.empty()) ThrowInvalidArgument("ContactEngine", option, Quote(name), expected);
 }
 
 // Bounding sphere of a shape about its frame origin (infinite for a half-space).
@@ -61,6 +53,7 @@ ContactEngine::ContactEngine(const Model& model, const ContactOptions& options)
     : options_(options), id_(NextEngineId()) {
   ValidateOptions(model);
   DecidePairs(model);
+  ValidateOverrides(model);
   SetUpBroadPhase(model);
 }
 
@@ -68,25 +61,52 @@ void ContactEngine::ValidateOptions(const Model& model) const {
   static constexpr const char* kWhere = "ContactEngine";
   options_.parameters.Validate("ContactEngine: options.parameters");
   CheckNonNegative(kWhere, "options.force_tolerance", options_.force_tolerance);
-  for (size_t i = 0; i < options_.excluded_pairs.size(); ++i) {
-    const std::string key = "options.excluded_pairs[" + std::to_string(i) + "]";
-    CheckName(model, key, options_.excluded_pairs[i].first);
-    CheckName(model, key, options_.excluded_pairs[i].second);
-  }
+  auto check_pairs = [&](const std::string& field,
+                         const std::vector<std::pair<std::string, std::string>>& pairs) {
+    for (size_t i = 0; i < pairs.size(); ++i) {
+      const std::string key = "options." + field + "[" + std::to_string(i) + "]";
+      CheckName(model, key + "[0]", pairs[i].first);
+      CheckName(model, key + "[1]", pairs[i].second);
+    }
+  };
+  check_pairs("excluded_pairs", options_.excluded_pairs);
+  check_pairs("included_pairs", options_.included_pairs);
   for (size_t i = 0; i < options_.included_pairs.size(); ++i) {
-    const std::string key = "options.included_pairs[" + std::to_string(i) + "]";
-    CheckName(model, key, options_.included_pairs[i].first);
-    CheckName(model, key, options_.included_pairs[i].second);
+    const auto& [a, b] = options_.included_pairs[i];
+    const std::string expected = IncludedPairProblem(model, a, b);
+    if (!expected.empty()) {
+      ThrowInvalidArgument(kWhere, "options.included_pairs[" + std::to_string(i) + "]",
+                           "[" + a + ", " + b + "]", expected);
+    }
   }
   for (size_t i = 0; i < options_.collision_groups.size(); ++i) {
-    for (const std::string& name : options_.collision_groups[i]) {
-      CheckName(model, "options.collision_groups[" + std::to_string(i) + "]", name);
+    const std::vector<std::string>& group = options_.collision_groups[i];
+    const std::string key = "options.collision_groups[" + std::to_string(i) + "]";
+    const std::string expected = CollisionGroupProblem(group.size());
+    if (!expected.empty()) {
+      ThrowInvalidArgument(
+          kWhere, key, group.empty() ? "an empty list" : "a list of one name " + Quote(group[0]),
+          expected);
+    }
+    for (size_t j = 0; j < group.size(); ++j) {
+      CheckName(model, key + "[" + std::to_string(j) + "]", group[j]);
     }
   }
   for (size_t i = 0; i < options_.overrides.size(); ++i) {
     const std::string key = "options.overrides[" + std::to_string(i) + "]";
-    CheckName(model, key, options_.overrides[i].a);
-    CheckName(model, key, options_.overrides[i].b);
+    CheckName(model, key + ".a", options_.overrides[i].a);
+    CheckName(model, key + ".b", options_.overrides[i].b);
+  }
+}
+
+void ContactEngine::ValidateOverrides(const Model& model) const {
+  for (size_t i = 0; i < options_.overrides.size(); ++i) {
+    const ContactParameterOverride& o = options_.overrides[i];
+    const std::string expected = ContactOverrideProblem(model, pairs_, o.a, o.b, "the options'");
+    if (!expected.empty()) {
+      ThrowInvalidArgument("ContactEngine", "options.overrides[" + std::to_string(i) + "]",
+                           "[" + o.a + ", " + o.b + "]", expected);
+    }
   }
 }
 
@@ -104,8 +124,8 @@ void ContactEngine::DecidePairs(const Model& model) {
     for (const std::vector<std::string>& group : options_.collision_groups) {
       bool has_a = false, has_b = false;
       for (const std::string& name : group) {
-        has_a = has_a || Matches(model, name, ga);
-        has_b = has_b || Matches(model, name, gb);
+        has_a = has_a || NameMatches(model, name, ga);
+        has_b = has_b || NameMatches(model, name, gb);
       }
       if (has_a && has_b) return true;
     }
@@ -114,10 +134,10 @@ void ContactEngine::DecidePairs(const Model& model) {
 
   for (GeometryIndex ga = 0; ga < ng; ++ga) {
     for (GeometryIndex gb = ga + 1; gb < ng; ++gb) {
+      // Never two geometries on one rigid body (or both on the world), nor two half-spaces.
+      if (!CanTouch(model, ga, gb)) continue;
       const BodyIndex ma = model.mobilized_body(geos[ga].body);
       const BodyIndex mb = model.mobilized_body(geos[gb].body);
-      if (ma == mb) continue;  // same rigid body (or both on the world)
-      if (IsHalfSpace(geos[ga].shape) && IsHalfSpace(geos[gb].shape)) continue;
       // Bodies joined by a 1-DoF joint usually overlap at the joint: skip them. Bodies on
       // floating or planar joints move freely with respect to their parent (a ball on the
       // ground): keep them.

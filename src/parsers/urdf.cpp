@@ -95,7 +95,7 @@ struct ParsedUrdf {
 ParsedUrdf Parse(const std::string& xml, const std::string& source, const UrdfOptions& options,
                  std::vector<UrdfWarning>* warnings, const char* where) {
   CheckOptions(options, warnings, where);
-  UrdfReporter reporter(source, options.unsupported_visuals_as_warnings, warnings);
+  UrdfReporter reporter(source, options.unsupported_visuals_as_warnings, options.prefix, warnings);
   ParsedUrdf parsed;
   parsed.source = source;
   parsed.doc = urdf_internal::ReadUrdfDocument(xml, &reporter);
@@ -315,7 +315,8 @@ BodyIndex AddParsed(const ParsedUrdf& parsed, const UrdfOptions& options, ModelB
                            "a non-zero finite vector");
     }
   }
-  UrdfReporter reporter(parsed.source, options.unsupported_visuals_as_warnings, warnings);
+  UrdfReporter reporter(parsed.source, options.unsupported_visuals_as_warnings, options.prefix,
+                        warnings);
   if (doc.root == "world" && options.base != BaseType::kFixed) {
     // The file attaches the model to the world itself: a floating or planar base asked for in
     // the options could not apply, and would otherwise be dropped without a word.

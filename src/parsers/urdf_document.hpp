@@ -25,13 +25,17 @@ class TiXmlElement;
 namespace idto {
 namespace urdf_internal {
 
-/// Errors (FileError naming the source and the element) and warnings for one parse.
+/// Errors (FileError naming the source and the element) and warnings for one parse. With a
+/// non-empty `prefix` (UrdfOptions::prefix), a warning's element also names what it is about in
+/// the model ("link 'base' (the model's link 'left_base')"), so the warnings of one file loaded
+/// twice under two prefixes tell which copy they are about.
 class UrdfReporter {
  public:
-  UrdfReporter(std::string source, bool unsupported_visuals_are_warnings,
+  UrdfReporter(std::string source, bool unsupported_visuals_are_warnings, std::string prefix,
                std::vector<UrdfWarning>* warnings)
       : source_(std::move(source)),
         visual_warnings_(unsupported_visuals_are_warnings),
+        prefix_(std::move(prefix)),
         warnings_(warnings) {}
 
   const std::string& source() const { return source_; }
@@ -46,8 +50,12 @@ class UrdfReporter {
   const std::vector<UrdfWarning>& warnings() const { return recorded_; }
 
  private:
+  // `element` with, under a prefix, the prefixed name of its link or joint (or the prefix).
+  std::string InModel(const std::string& element) const;
+
   std::string source_;
   bool visual_warnings_{false};
+  std::string prefix_;
   std::vector<UrdfWarning>* warnings_{nullptr};
   std::vector<UrdfWarning> recorded_;
 };

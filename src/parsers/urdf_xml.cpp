@@ -18,8 +18,23 @@ void UrdfReporter::Error(const std::string& element, const std::string& problem)
   ThrowFileError(source_, element, problem);
 }
 
+std::string UrdfReporter::InModel(const std::string& element) const {
+  if (prefix_.empty()) return element;
+  // The elements of links and joints are LinkElement(name) and JointElement(name); every link
+  // and joint name gets the prefix in the model.
+  for (const std::string kind : {"link", "joint"}) {
+    const std::string head = kind + " '";
+    if (element.size() > head.size() && element.compare(0, head.size(), head) == 0 &&
+        element.back() == '\'') {
+      const std::string name = element.substr(head.size(), element.size() - head.size() - 1);
+      return element + " (the model's " + kind + " " + Quoted(prefix_ + name) + ")";
+    }
+  }
+  return element + " (loaded with prefix " + Quoted(prefix_) + ")";
+}
+
 void UrdfReporter::Warn(const std::string& element, const std::string& problem) {
-  UrdfWarning warning{source_, element, problem};
+  UrdfWarning warning{source_, InModel(element), problem};
   recorded_.push_back(warning);
   if (warnings_ != nullptr) warnings_->push_back(warning);
 }

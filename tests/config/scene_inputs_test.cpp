@@ -46,7 +46,8 @@ TEST(SceneInputs, UrdfWarningsAreKept) {
       LoadText(With(kModels, kModels + "    - {urdf: box.urdf, prefix: b_}\n"));
   ASSERT_EQ(config.urdf_warnings.size(), 1u);
   EXPECT_THAT(config.urdf_warnings[0].file, HasSubstr("box.urdf"));
-  EXPECT_EQ(config.urdf_warnings[0].element, "link 'box'");
+  // The element names the link as in the file and, under the model's prefix, as in the scene.
+  EXPECT_EQ(config.urdf_warnings[0].element, "link 'box' (the model's link 'b_box')");
   EXPECT_THAT(config.urdf_warnings[0].message,
               HasSubstr("mass 0.55 ignored: the link is welded to the world"));
 }

@@ -229,8 +229,31 @@ TEST(UrdfStrict, RenamedDuplicateCollisionNamesWarn) {
   EXPECT_EQ(model.geometries()[0].name, "p_c");
   EXPECT_EQ(model.geometries()[1].name, "p_c_1");
   EXPECT_TRUE(Mentions(warnings,
-                       "case.urdf: link 'b': collision name 'p_c' is already used in "
-                       "this model; this one is named 'p_c_1'"));
+                       "case.urdf: link 'b' (the model's link 'p_b'): collision name 'p_c' is "
+                       "already used in this model; this one is named 'p_c_1'"));
+}
+
+TEST(UrdfStrict, PrefixedWarningsNameTheModelsLinkOrJoint) {
+  // One file, loaded without a prefix and under two: the warnings about its link, its joint and
+  // its <robot> tell which copy of the model they are about; without a prefix they are as in
+  // the file.
+  const std::string xml = "<robot name='r' colour='red'>" +
+                          TwoLinks("revolute", "<axis xyz='0 0 1'/><dynamics friction='0.1'/>")
+                              .substr(std::string("<robot name='r'>").size());
+  auto elements = [&](const std::string& prefix) {
+    std::vector<UrdfWarning> warnings;
+    UrdfOptions options;
+    options.prefix = prefix;
+    ParseUrdfString(xml, options, "case.urdf", &warnings);
+    std::vector<std::string> out;
+    for (const UrdfWarning& w : warnings) out.push_back(w.element);
+    return out;
+  };
+  EXPECT_THAT(elements(""), ::testing::UnorderedElementsAre("robot 'r'", "link 'a'", "joint 'j'"));
+  EXPECT_THAT(elements("left_"),
+              ::testing::UnorderedElementsAre("robot 'r' (loaded with prefix 'left_')",
+                                              "link 'a' (the model's link 'left_a')",
+                                              "joint 'j' (the model's joint 'left_j')"));
 }
 
 // ------------------------------------------------------------------------------------------------

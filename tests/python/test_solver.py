@@ -312,3 +312,20 @@ def test_limit_penalties_from_yaml_and_python():
     problem.limits = fresh
     with pytest.raises(ValueError, match="limits.tau_max"):
         problem.validate(config.model)
+
+
+def test_contact_options_that_would_change_nothing_are_errors(spinner):
+    # The checks of the YAML loader hold for options set from Python too: an override of a
+    # geometry against itself matches no pair, so it would change nothing.
+    g = spinner.model.geometry_names()[0]
+    p = copy.copy(spinner.problem)
+    o = idto.ContactParameterOverride()
+    o.a, o.b, o.stiffness = g, g, 10.0
+    p.contact.overrides = [o]
+    with pytest.raises(ValueError, match=r"options\.overrides\[0\] is \[.*\]; expected a pair "
+                                         r"whose parameters it would change"):
+        idto.TrajectoryOptimizer(spinner.model, p, short_options(spinner, 1))
+    p.contact.overrides = []
+    p.contact.collision_groups = [[g]]
+    with pytest.raises(ValueError, match=r"options\.collision_groups\[0\] is a list of one name"):
+        idto.TrajectoryOptimizer(spinner.model, p, short_options(spinner, 1))

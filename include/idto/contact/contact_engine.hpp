@@ -21,7 +21,9 @@
 namespace idto {
 
 /// Overrides some contact parameters for the pairs matching (a, b) in either order. A name
-/// matches a geometry when it equals the geometry's name or its body's name; "*" matches any.
+/// matches a geometry when it equals the geometry's name or its body's name (the geometry
+/// attached to that body, not to the bodies welded to it); "*" matches any. An override must
+/// match at least one pair the ContactEngine evaluates (ContactOverrideProblem).
 struct ContactParameterOverride {
   std::string a;
   std::string b;
@@ -33,6 +35,13 @@ struct ContactParameterOverride {
 };
 
 /// Which pairs can touch, their parameters, and pruning.
+///
+/// Every filter and override must take effect: a name must be "*", a geometry's name or the
+/// name of a body with collision geometry of its own (ContactNameProblem); a collision group
+/// needs at least two names (CollisionGroupProblem); an included pair must match two geometries
+/// that can touch (IncludedPairProblem); an override must match a pair that is evaluated
+/// (ContactOverrideProblem). Exclusions of pairs that never touch anyway are accepted (what they
+/// ask for holds). ContactEngine's constructor checks all of them.
 struct ContactOptions {
   /// The law's parameters for every pair, unless overridden.
   ContactParameters parameters;
@@ -61,6 +70,32 @@ struct ContactPair {
   /// Pruning distance: beyond it the pair is skipped (+inf when pruning is off).
   double cutoff_distance{0.0};
 };
+
+/// The checks behind ContactEngine's refusal of filters and overrides that would have no effect,
+/// one entry at a time (the YAML loader calls them to name the key and line of an entry). Each
+/// returns what was expected, with the reason the entry would be lost, or an empty string when
+/// the entry takes effect.
+
+/// A name of a filter or override: "*", a geometry's name, or the name of a body with collision
+/// geometry of its own (a body name stands for the geometry attached to that body, not to the
+/// bodies welded to it, so a body without geometry would match nothing).
+std::string ContactNameProblem(const Model& model, const std::string& name);
+
+/// A collision group of `num_names` names: at least two (pairs within a group are not evaluated;
+/// one name leaves out only pairs on one body, which never touch anyway).
+std::string CollisionGroupProblem(std::size_t num_names);
+
+/// An included pair (a, b): it must match two geometries that can touch (on different rigid
+/// bodies, not both half-spaces); otherwise it includes nothing.
+std::string IncludedPairProblem(const Model& model, const std::string& a, const std::string& b);
+
+/// An override of the pairs (a, b): it must match one of `pairs`, the pairs of a ContactEngine
+/// built on `model` with the same filters (its parameters do not change which pairs are
+/// evaluated). `filters` names the filters in the message (e.g. "the options'" or
+/// "scene.contact's").
+std::string ContactOverrideProblem(const Model& model, const std::vector<ContactPair>& pairs,
+                                   const std::string& a, const std::string& b,
+                                   const std::string& filters);
 
 /// One evaluated pair.
 struct ContactResult {
@@ -107,7 +142,11 @@ class ContactEngine {
   /// world, two half-spaces, or a parent and a child body joined by a 1-DoF joint (bodies on
   /// floating or planar joints do touch their parent, e.g. a ball on the ground); then the
   /// options' filters.
-  /// Throws InvalidArgument naming the option on unknown names or invalid parameters.
+  /// Throws InvalidArgument naming the option field and entry (e.g. options.overrides[2]), the
+  /// value and what was expected on invalid parameters and on filters or overrides that would
+  /// have no effect (see ContactOptions): unknown names, bodies without collision geometry,
+  /// groups of fewer than two names, included pairs that match no two geometries that can touch,
+  /// overrides that match no evaluated pair.
   ContactEngine(const Model& model, const ContactOptions& options);
 
   const std::vector<ContactPair>& pairs() const { return pairs_; }
@@ -165,10 +204,12 @@ class ContactEngine {
   double max_cutoff_{0.0};
   bool use_bvh_{false};
 
-  // The constructor's three steps: option names checked against the model; the pairs that can
-  // touch (with their parameters and cut-off distances); the broad phase over static geometry.
+  // The constructor's steps: the filters checked against the model; the pairs that can touch
+  // (with their parameters and cut-off distances); the overrides checked against those pairs;
+  // the broad phase over static geometry.
   void ValidateOptions(const Model& model) const;
   void DecidePairs(const Model& model);
+  void ValidateOverrides(const Model& model) const;
   void SetUpBroadPhase(const Model& model);
   int BuildBvh(int first, int count);
   // World-frame centre of the bounding sphere of moving geometry moving_with_static_[m].
