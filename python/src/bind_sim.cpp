@@ -59,6 +59,7 @@ void BindPlantOptions(py::module_& m) {
       .def_readwrite("friction_coefficient", &J::friction_coefficient)
       .def_readwrite("torsional_friction", &J::torsional_friction)
       .def_readwrite("rolling_friction", &J::rolling_friction)
+      .def_readwrite("friction_cone", &J::friction_cone)
       .def_readwrite("pairs", &J::pairs);
 }
 

@@ -46,6 +46,7 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "mujoco_friction",
                                            "mujoco_torsional_friction",
                                            "mujoco_rolling_friction",
+                                           "mujoco_cone",
                                            "model_mass_scale",
                                            "disturbances",
                                            "problem",
@@ -106,6 +107,9 @@ void ReadScalars(const MapReader& mpc, MpcConfig* m) {
       mpc.NonNegative("mujoco_torsional_friction", m->mujoco.torsional_friction);
   m->mujoco.rolling_friction =
       mpc.NonNegative("mujoco_rolling_friction", m->mujoco.rolling_friction);
+  const std::vector<std::string> cones = {"elliptic", "pyramidal"};
+  m->mujoco.friction_cone =
+      cones[mpc.Enum("mujoco_cone", cones, m->mujoco.friction_cone == "pyramidal" ? 1 : 0)];
 }
 
 /// latency: solve_time, control_period, or a fixed delay in seconds (reproducible runs);

@@ -346,6 +346,8 @@ bool IsKnownIntegrator(const std::string& name) {
   return name == "Euler" || name == "RK4" || name == "implicit";
 }
 
+bool IsKnownCone(const std::string& name) { return name == "pyramidal" || name == "elliptic"; }
+
 }  // namespace
 
 // -----------------------------------------------------------------------------------------------
@@ -356,6 +358,8 @@ bool MjcfOptions::IsValid(std::string* why) const {
     reason = "timestep is " + FormatValue(timestep) + "; expected a finite positive number";
   } else if (!IsKnownIntegrator(integrator)) {
     reason = "integrator is '" + integrator + "'; expected \"Euler\", \"RK4\" or \"implicit\"";
+  } else if (!IsKnownCone(cone)) {
+    reason = "cone is '" + cone + "'; expected \"pyramidal\" or \"elliptic\"";
   } else if (contype < 0 || conaffinity < 0) {
     reason = "contype/conaffinity are " + std::to_string(contype) + "/" +
              std::to_string(conaffinity) + "; expected non-negative bit masks";
@@ -394,6 +398,7 @@ std::string MakeMjcf(const Model& model, const MjcfOptions& options) {
   out << "  <compiler angle=\"radian\" inertiafromgeom=\"false\"/>\n";
   out << "  <option timestep=\"" << Num(options.timestep) << "\" gravity=\""
       << Nums(model.gravity()) << "\" integrator=\"" << options.integrator << "\"";
+  if (options.cone != "pyramidal") out << " cone=\"" << options.cone << "\"";
   if (options.disable_contact) {
     out << ">\n    <flag contact=\"disable\"/>\n  </option>\n";
   } else {

@@ -17,6 +17,10 @@ std::string MakeMujocoPlantMjcf(const Model& model, const MujocoPlantOptions& op
   CheckNonNegative(kWhere, "options.friction_coefficient", options.friction_coefficient);
   CheckNonNegative(kWhere, "options.torsional_friction", options.torsional_friction);
   CheckNonNegative(kWhere, "options.rolling_friction", options.rolling_friction);
+  if (options.friction_cone != "elliptic" && options.friction_cone != "pyramidal") {
+    ThrowInvalidArgument(kWhere, "options.friction_cone", "'" + options.friction_cone + "'",
+                         "\"elliptic\" or \"pyramidal\"");
+  }
   // The pairs the planner's engine would evaluate; its law only matters for the friction
   // coefficient (the plant's, unless a per-pair override sets one).
   ContactOptions pairs = options.pairs;
@@ -28,6 +32,7 @@ std::string MakeMujocoPlantMjcf(const Model& model, const MujocoPlantOptions& op
   mjcf.disable_contact = false;
   mjcf.timestep = options.time_step;
   mjcf.integrator = "Euler";
+  mjcf.cone = options.friction_cone;
   mjcf.contype = 0;
   mjcf.conaffinity = 0;
   mjcf.contact_pairs.reserve(engine.pairs().size());

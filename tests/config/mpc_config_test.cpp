@@ -329,7 +329,8 @@ TEST(MpcConfigTest, OrientationLeadAndMujocoFrictionKeys) {
       LoadExample("allegro", ExampleWithMpc("allegro",
                                             "  orientation_lead: {ball_root_joint: 0.4}\n"
                                             "  mujoco_torsional_friction: 0.002\n"
-                                            "  mujoco_rolling_friction: 0.01\n",
+                                            "  mujoco_rolling_friction: 0.01\n"
+                                            "  mujoco_cone: pyramidal\n",
                                             &line));
   ASSERT_TRUE(config.mpc.has_value());
   const MpcConfig& m = *config.mpc;
@@ -339,7 +340,12 @@ TEST(MpcConfigTest, OrientationLeadAndMujocoFrictionKeys) {
   EXPECT_DOUBLE_EQ(m.controller.orientation_leads[0].max_angle, 0.4);
   EXPECT_DOUBLE_EQ(m.mujoco.torsional_friction, 0.002);
   EXPECT_DOUBLE_EQ(m.mujoco.rolling_friction, 0.01);
+  EXPECT_EQ(m.mujoco.friction_cone, "pyramidal");
+  EXPECT_EQ(LoadExample("allegro", ExampleWithMpc("allegro", "  seed: 1\n", &line))
+                .mpc->mujoco.friction_cone,
+            "elliptic");
   const auto throws = MpcErrorChecker("allegro");
+  throws("  mujoco_cone: round\n", "mpc.mujoco_cone", "is 'round'");
   throws("  orientation_lead: {index_joint0: 0.4}\n", "mpc.orientation_lead.index_joint0",
          "is 'index_joint0'; expected a floating joint");
   throws("  orientation_lead: {ball_root_joint: -1}\n", "mpc.orientation_lead.ball_root_joint",

@@ -99,6 +99,14 @@ def test_plants(spinner):
     mj.time_step, mj.friction_coefficient = 1e-3, 0.5
     mj.torsional_friction, mj.rolling_friction = 0.0, 0.0
     mj.pairs = spinner.problem.contact
+    assert mj.friction_cone == "elliptic"
+    assert 'cone="elliptic"' in idto.make_mujoco_plant_mjcf(model, mj)
+    mj.friction_cone = "pyramidal"
+    assert "cone=" not in idto.make_mujoco_plant_mjcf(model, mj)
+    mj.friction_cone = "round"
+    with pytest.raises(ValueError, match="friction_cone"):
+        idto.make_mujoco_plant_mjcf(model, mj)
+    mj.friction_cone = "elliptic"
     assert "<mujoco" in idto.make_mujoco_plant_mjcf(model, mj)
     if idto.have_mujoco():
         p = idto.make_mujoco_plant(model, mj)

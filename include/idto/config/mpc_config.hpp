@@ -48,6 +48,7 @@ struct MpcConfig {
 ///   mujoco_friction (default: the scene's friction coefficient),
 ///   mujoco_torsional_friction, mujoco_rolling_friction (m, default 0: MuJoCo's torsional and
 ///     rolling friction on every pair, condim 4 / 6; sim::MujocoPlantOptions),
+///   mujoco_cone: elliptic (default) | pyramidal (sim::MujocoPlantOptions::friction_cone),
 ///   disturbances: [{body, start, duration, force: [fx, fy, fz]}],
 ///   problem, contact, solver: the controller's own problem, contact law parameters and solver
 ///     options (ExampleConfig::mpc_problem and ExampleConfig::mpc_solver).

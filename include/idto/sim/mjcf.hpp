@@ -92,6 +92,9 @@ struct MjcfOptions {
   double timestep{0.001};
   /// MuJoCo integrator: "Euler", "RK4" or "implicit".
   std::string integrator{"Euler"};
+  /// MuJoCo's friction cone (`<option cone>`): "pyramidal" (MuJoCo's default) or "elliptic"
+  /// (MuJoCo's documentation: the better model of physical reality; docs/mpc.md, session 28).
+  std::string cone{"pyramidal"};
   /// Adds `<flag contact="disable"/>` to `<option>`.
   bool disable_contact{false};
   /// Emits `range` and `limited="true"` for 1-DoF joints with finite position limits (MuJoCo then

@@ -112,6 +112,10 @@ struct MujocoPlantOptions {
   /// normal). 0 (default): none. A point contact resists no spin or roll; torsional and rolling
   /// friction stand in for the torque of a contact patch (e.g. a soft ball on a palm).
   double rolling_friction{0.0};
+  /// MuJoCo's friction cone: "elliptic" (default: Coulomb's cone; MuJoCo's documentation calls
+  /// it the better model of physical reality) or "pyramidal" (MuJoCo's own default, its linear
+  /// approximation; the plant before session 28). docs/mpc.md, session 28, measures both.
+  std::string friction_cone{"elliptic"};
   /// Pair selection as in the planner: every pair a ContactEngine(model, pairs) evaluates
   /// becomes an explicit MuJoCo `<pair>`, and no other pair collides (MakeMujocoPlantMjcf).
   /// The law's other parameters are not used: MuJoCo's contact is its own.
@@ -122,7 +126,8 @@ struct MujocoPlantOptions {
 /// Euler integration, and one explicit `<pair>` per pair that a ContactEngine(model,
 /// options.pairs) evaluates (every other collision disabled through contype = conaffinity = 0),
 /// so the scene's filters hold exactly. Friction: options.friction_coefficient, or a per-pair
-/// override's friction_coefficient from options.pairs; torsional and rolling friction:
+/// override's friction_coefficient from options.pairs, in options.friction_cone; torsional and
+/// rolling friction:
 /// options.torsional_friction and options.rolling_friction on every pair (condim 3 when both are
 /// 0, 4 with torsional friction only, 6 with rolling friction; MjcfContactPair). Throws
 /// InvalidArgument on a non-positive time step or a negative or non-finite coefficient. Needs no
