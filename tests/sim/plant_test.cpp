@@ -776,8 +776,7 @@ TEST(MujocoPlant, EllipticConeFrictionDoesNotDependOnTheSlidingDirection) {
     SCOPED_TRACE(angle);
     EXPECT_NEAR(speed_after("elliptic", angle), along_x, 1e-6);
   }
-  EXPECT_GT(speed_after("pyramidal", M_PI / 4) - speed_after("pyramidal", 0.0),
-            0.2 * coulomb_loss);
+  EXPECT_GT(speed_after("pyramidal", M_PI / 4) - speed_after("pyramidal", 0.0), 0.2 * coulomb_loss);
 }
 
 TEST(MujocoPlant, ExcludedPairsDoNotCollide) {

@@ -137,16 +137,16 @@ std::string MakeMujocoPlantMjcf(const Model& model, const MujocoPlantOptions& op
 /// True when idto was built with MuJoCo.
 bool HaveMujoco();
 
-/// MuJoCo (rigid contact, MuJoCo's default soft-constraint parameters, pyramidal friction
-/// cones, Euler integration with implicit joint damping) loaded from MakeMujocoPlantMjcf(model,
-/// options) through MuJoCo's virtual file system and stepped at time_step; states mapped
-/// between conventions with MujocoMap, u applied as qfrc_applied = T(q) u (so that the
-/// generalized force in idto's coordinates is u; idto/sim/mjcf.hpp), the disturbance as
-/// xfrc_applied on the MuJoCo body carrying `disturbed_body`, moved from the body origin to
-/// that body's centre of mass. contact_force_per_body sums |f| of mj_contactForce over the
-/// contacts of the last step. Throws std::runtime_error when idto was built without MuJoCo,
-/// when MuJoCo rejects the model, and from Advance when MuJoCo reports bad qpos/qvel/qacc
-/// (after which MuJoCo has reset its state).
+/// MuJoCo (rigid contact, MuJoCo's default soft-constraint parameters, options.friction_cone
+/// friction cones, Euler integration with implicit joint damping) loaded from
+/// MakeMujocoPlantMjcf(model, options) through MuJoCo's virtual file system and stepped at
+/// time_step; states mapped between conventions with MujocoMap, u applied as qfrc_applied = T(q) u
+/// (so that the generalized force in idto's coordinates is u; idto/sim/mjcf.hpp), the disturbance
+/// as xfrc_applied on the MuJoCo body carrying `disturbed_body`, moved from the body origin to that
+/// body's centre of mass. contact_force_per_body sums |f| of mj_contactForce over the contacts of
+/// the last step. Throws std::runtime_error when idto was built without MuJoCo, when MuJoCo rejects
+/// the model, and from Advance when MuJoCo reports bad qpos/qvel/qacc (after which MuJoCo has reset
+/// its state).
 std::unique_ptr<Plant> MakeMujocoPlant(const Model& model, const MujocoPlantOptions& options);
 
 }  // namespace idto::sim
