@@ -127,10 +127,10 @@ struct MujocoPlantOptions {
 /// options.pairs) evaluates (every other collision disabled through contype = conaffinity = 0),
 /// so the scene's filters hold exactly. Friction: options.friction_coefficient, or a per-pair
 /// override's friction_coefficient from options.pairs, in options.friction_cone; torsional and
-/// rolling friction:
-/// options.torsional_friction and options.rolling_friction on every pair (condim 3 when both are
-/// 0, 4 with torsional friction only, 6 with rolling friction; MjcfContactPair). Throws
-/// InvalidArgument on a non-positive time step or a negative or non-finite coefficient. Needs no
+/// rolling friction: options.torsional_friction and options.rolling_friction on every pair
+/// (condim 3 when both are 0, 4 with torsional friction only, 6 with rolling friction;
+/// MjcfContactPair). Throws InvalidArgument on a non-positive time step, a negative or
+/// non-finite coefficient, or a friction_cone other than "elliptic" or "pyramidal". Needs no
 /// MuJoCo (for inspection and tests).
 std::string MakeMujocoPlantMjcf(const Model& model, const MujocoPlantOptions& options);
 
