@@ -50,7 +50,7 @@ TEST(CampaignHeavy, Quadruped50Runs) {
 TEST(CampaignHeavy, QuadrupedHills50Runs) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
   // docs/mpc.md: 49 of 50 at this seed with session 29's controller (the planner's friction 1.3
-  // on the hills) and the elliptic-cone plant; 45 with session 21's controller (friction 1.0),
+  // on the hills, a 25 ms grid) and the elliptic-cone plant; 45 with session 21's controller,
   // which this threshold would fail, and 50 with that controller and the pyramidal cone.
   EXPECT_GE(CampaignSuccesses("quadruped_hills", 50, 1), 47);
 }
