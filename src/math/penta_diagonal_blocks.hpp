@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 
 #include "idto/math/penta_diagonal_matrix.hpp"
+#include "math/fixed_block_steps.hpp"
 
 namespace idto::internal {
 
@@ -40,6 +41,16 @@ template <typename XBlock>
 void ForwardSubstitutionStep(const PentaDiagonalFactorBlocks& f, int i, int first,
                              const XBlock& x) {
   auto xi = x(i);
+  using Xi = decltype(xi);
+  if constexpr (Xi::ColsAtCompileTime == 1 && Xi::InnerStrideAtCompileTime == 1) {
+    const auto fixed = [&](auto size) {
+      ForwardStepFixed<decltype(size)::value>(
+          f.L0[i].data(), f.D0[i].data(), f.L1[i].data(), f.L2[i].data(),
+          i - 1 >= first ? x(i - 1).data() : nullptr, i - 2 >= first ? x(i - 2).data() : nullptr,
+          xi.data());
+    };
+    if (WithFixedBlockSize(static_cast<int>(xi.rows()), fixed)) return;
+  }
   if (i - 1 >= first) xi.noalias() -= f.L1[i] * x(i - 1);
   if (i - 2 >= first) xi.noalias() -= f.L2[i] * x(i - 2);
   f.L0[i].template triangularView<Eigen::Lower>().solveInPlace(xi);
@@ -50,6 +61,16 @@ void ForwardSubstitutionStep(const PentaDiagonalFactorBlocks& f, int i, int firs
 template <typename XBlock>
 void BackwardSubstitutionStep(const PentaDiagonalFactorBlocks& f, int i, int end, const XBlock& x) {
   auto xi = x(i);
+  using Xi = decltype(xi);
+  if constexpr (Xi::ColsAtCompileTime == 1 && Xi::InnerStrideAtCompileTime == 1) {
+    const auto fixed = [&](auto size) {
+      BackwardStepFixed<decltype(size)::value>(
+          f.L0[i].data(), f.D0[i].data(), i + 1 < end ? f.L1[i + 1].data() : nullptr,
+          i + 2 < end ? f.L2[i + 2].data() : nullptr, i + 1 < end ? x(i + 1).data() : nullptr,
+          i + 2 < end ? x(i + 2).data() : nullptr, xi.data());
+    };
+    if (WithFixedBlockSize(static_cast<int>(xi.rows()), fixed)) return;
+  }
   if (i + 1 < end) xi.noalias() -= f.L1[i + 1].transpose() * x(i + 1);
   if (i + 2 < end) xi.noalias() -= f.L2[i + 2].transpose() * x(i + 2);
   f.L0[i].template triangularView<Eigen::Lower>().transpose().solveInPlace(xi);

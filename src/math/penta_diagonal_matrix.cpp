@@ -160,6 +160,7 @@ void PentaDiagonalFactorBlocks::Resize(int count, int n) {
   L0.assign(count, zero);
   L1.assign(count, zero);
   L2.assign(count, zero);
+  D0.assign(count, Eigen::VectorXd::Zero(n));
 }
 
 bool CholeskyInPlace(Eigen::MatrixXd* S) {
@@ -220,6 +221,21 @@ void EliminateFirstNeighbour(int i, PentaDiagonalFactorBlocks* f) {
 }
 
 bool FactorStep(int i, PentaDiagonalFactorBlocks* f) {
+  bool ok = false;
+  const auto fixed = [&](auto size) {
+    const bool one = i >= 1, two = i >= 2;
+    const FixedStepBlocks b{f->L0[i].data(),
+                            f->L1[i].data(),
+                            f->L2[i].data(),
+                            f->D0[i].data(),
+                            one ? f->L0[i - 1].data() : nullptr,
+                            one ? f->D0[i - 1].data() : nullptr,
+                            two ? f->L1[i - 1].data() : nullptr,
+                            two ? f->L0[i - 2].data() : nullptr,
+                            two ? f->D0[i - 2].data() : nullptr};
+    ok = FactorStepFixed<decltype(size)::value>(b);
+  };
+  if (WithFixedBlockSize(static_cast<int>(f->L0[i].rows()), fixed)) return ok;
   // The operations of EliminateSecondNeighbour and EliminateFirstNeighbour, with the pivot
   // updated by L1 before L2 (the order of the natural-order factorization since issue 5).
   if (i >= 2) {

@@ -64,11 +64,14 @@ TEST(PentaDiagonal, MultiplyAndDenseAgree) {
   EXPECT_EQ(D.block(9, 0, 3, 3).norm(), 0.0);
 }
 
+// Blocks of 1-6 rows take the fixed-size steps (src/math/fixed_block_steps.hpp), 7 and 19 the
+// general kernels: every size against the dense factorization.
 TEST_P(PentaDiagonalCholeskyTest, CholeskySolvesLikeDenseUpToConditionNumber1e12) {
   test::Random rng(2);
   for (double condition : {1.0, 1e3, 1e6, 1e9, 1e12}) {
     for (auto [N, n] :
-         {std::pair{1, 4}, std::pair{2, 3}, std::pair{10, 6}, std::pair{40, 2}, std::pair{5, 19}}) {
+         {std::pair{1, 4}, std::pair{2, 3}, std::pair{10, 6}, std::pair{40, 2}, std::pair{5, 19},
+          std::pair{9, 1}, std::pair{12, 5}, std::pair{6, 7}, std::pair{3, 1}}) {
       SCOPED_TRACE(::testing::Message() << "cond=" << condition << " N=" << N << " n=" << n);
       const PentaDiagonalMatrix H = RandomSpd(N, n, condition, &rng);
       const Eigen::MatrixXd D = H.MakeDense();

@@ -57,7 +57,9 @@ namespace internal {
 /// n x n (src/math/penta_diagonal_blocks.hpp computes them).
 struct PentaDiagonalFactorBlocks {
   std::vector<Eigen::MatrixXd> L0, L1, L2;
-  /// `count` zero n x n blocks in each array.
+  /// 1 / diag(L0[i]) (n each), written and read by the fixed-size steps of blocks up to 6 rows.
+  std::vector<Eigen::VectorXd> D0;
+  /// `count` zero n x n blocks in each array (zero vectors in D0).
   void Resize(int count, int n);
 };
 }  // namespace internal
