@@ -37,10 +37,37 @@ void PentaDiagonalMatrix::Multiply(const Eigen::VectorXd& x, Eigen::VectorXd* y)
   MultiplyRows(x, 0, num_blocks_, y);
 }
 
+namespace {
+
+// MultiplyRows for blocks of n rows known at compile time: fixed-size products, unrolled (Eigen's
+// dynamic-size matrix-vector products spend most of their time dispatching at these sizes).
+template <int n>
+void MultiplyRowsFixed(const std::vector<Eigen::MatrixXd>& A, const std::vector<Eigen::MatrixXd>& B,
+                       const std::vector<Eigen::MatrixXd>& C, const double* x, int begin, int end,
+                       double* y) {
+  using Block = Eigen::Map<const Eigen::Matrix<double, n, n>>;
+  using Segment = Eigen::Map<const Eigen::Matrix<double, n, 1>>;
+  const int N = static_cast<int>(C.size());
+  for (int k = begin; k < end; ++k) {
+    Eigen::Matrix<double, n, 1> yk = Block(C[k].data()) * Segment(x + k * n);
+    if (k >= 1) yk.noalias() += Block(B[k].data()) * Segment(x + (k - 1) * n);
+    if (k >= 2) yk.noalias() += Block(A[k].data()) * Segment(x + (k - 2) * n);
+    if (k + 1 < N) yk.noalias() += Block(B[k + 1].data()).transpose() * Segment(x + (k + 1) * n);
+    if (k + 2 < N) yk.noalias() += Block(A[k + 2].data()).transpose() * Segment(x + (k + 2) * n);
+    Eigen::Map<Eigen::Matrix<double, n, 1>>(y + k * n) = yk;
+  }
+}
+
+}  // namespace
+
 void PentaDiagonalMatrix::MultiplyRows(const Eigen::VectorXd& x, int begin, int end,
                                        Eigen::VectorXd* y) const {
   const int n = block_size_;
   const int N = num_blocks_;
+  const auto fixed = [&](auto size) {
+    MultiplyRowsFixed<decltype(size)::value>(A_, B_, C_, x.data(), begin, end, y->data());
+  };
+  if (internal::WithFixedBlockSize(n, fixed)) return;
   for (int k = begin; k < end; ++k) {
     // y_k = C_k x_k + B_k x_{k-1} + A_k x_{k-2} + B_{k+1}^T x_{k+1} + A_{k+2}^T x_{k+2}.
     auto yk = y->segment(k * n, n);

@@ -310,6 +310,27 @@ void Transcription::CalcDerivatives(const TrajectoryState& s, TrajectoryDerivati
   evaluator_->Calc(s, this, d);
 }
 
+namespace {
+
+// out += M^T t (M: rows x cols). Below 8 rows as plain dot products (Eigen's dynamic-size
+// matrix-vector product spends most of its time dispatching on the spinner's 3 x 3 blocks).
+template <typename Out>
+void AddTransposeTimes(const Eigen::MatrixXd& M, const Eigen::VectorXd& t, Out&& out) {
+  const int rows = static_cast<int>(M.rows());
+  if (rows >= 8) {
+    out.noalias() += M.transpose() * t;
+    return;
+  }
+  for (int c = 0; c < M.cols(); ++c) {
+    const double* m = M.data() + static_cast<long>(c) * rows;
+    double sum = 0.0;
+    for (int r = 0; r < rows; ++r) sum += m[r] * t[r];
+    out[c] += sum;
+  }
+}
+
+}  // namespace
+
 void Transcription::CalcGradient(const TrajectoryState& s, const TrajectoryDerivatives& d,
                                  Eigen::VectorXd* g) {
   ParallelFor(1, N_ + 1, num_threads_, [&](int k, int thread) {
@@ -319,17 +340,17 @@ void Transcription::CalcGradient(const TrajectoryState& s, const TrajectoryDeriv
     if (wq_lim_ > 0.0) AddExcess(s.q[k], q_lo_, q_hi_, wq_lim_, &gk);
     t = Wv(k).cwiseProduct(s.v[k] - problem_.v_nom[k]);
     if (wv_lim_ > 0.0) AddExcess(s.v[k], v_lo_, v_hi_, wv_lim_, &t);
-    gk.noalias() += d.dv_dq[k].transpose() * t;
+    AddTransposeTimes(d.dv_dq[k], t, gk);
     if (k < N_) {
       t = Wv(k + 1).cwiseProduct(s.v[k + 1] - problem_.v_nom[k + 1]);
       if (wv_lim_ > 0.0) AddExcess(s.v[k + 1], v_lo_, v_hi_, wv_lim_, &t);
-      gk.noalias() += d.dv_dqm[k + 1].transpose() * t;
+      AddTransposeTimes(d.dv_dqm[k + 1], t, gk);
     }
     for (int j = k - 1; j <= k + 1; ++j) {
       if (j < 0 || j > N_ - 1) continue;
       t = WR_.cwiseProduct(s.tau[j]);
       if (wt_lim_ > 0.0) AddExcess(s.tau[j], tau_lo_, tau_hi_, wt_lim_, &t);
-      gk.noalias() += d.DtauDq(j, k).transpose() * t;
+      AddTransposeTimes(d.DtauDq(j, k), t, gk);
     }
   });
 }

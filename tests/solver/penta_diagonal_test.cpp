@@ -47,25 +47,28 @@ IDTO_INSTANTIATE_KERNEL_PATHS(PentaDiagonalCholeskyTest);
 class SplitPentaDiagonalTest : public test::KernelPathTest {};
 IDTO_INSTANTIATE_KERNEL_PATHS(SplitPentaDiagonalTest);
 
+// Blocks of 1-6 rows take fixed-size products, larger ones Eigen's: every size against the dense
+// product.
 TEST(PentaDiagonal, MultiplyAndDenseAgree) {
   test::Random rng(1);
-  const PentaDiagonalMatrix H = RandomSpd(7, 3, 1e3, &rng);
-  const Eigen::MatrixXd D = H.MakeDense();
-  const Eigen::VectorXd x = rng.Vector(21);
-  Eigen::VectorXd y;
-  H.Multiply(x, &y);
-  EXPECT_EIGEN_NEAR_REL(y, Eigen::VectorXd(D * x), 1e-13);
-  // Block rows computed separately (as on two threads) give bitwise the same product.
-  Eigen::VectorXd y_rows = Eigen::VectorXd::Zero(21);
-  H.MultiplyRows(x, 4, 7, &y_rows);
-  H.MultiplyRows(x, 0, 4, &y_rows);
-  EXPECT_EQ(y_rows, y);
-  // Zero outside the band.
-  EXPECT_EQ(D.block(9, 0, 3, 3).norm(), 0.0);
+  for (int n : {1, 2, 3, 4, 5, 6, 7, 9}) {
+    SCOPED_TRACE(::testing::Message() << "n=" << n);
+    const PentaDiagonalMatrix H = RandomSpd(7, n, 1e3, &rng);
+    const Eigen::MatrixXd D = H.MakeDense();
+    const Eigen::VectorXd x = rng.Vector(7 * n);
+    Eigen::VectorXd y;
+    H.Multiply(x, &y);
+    EXPECT_EIGEN_NEAR_REL(y, Eigen::VectorXd(D * x), 1e-13);
+    // Block rows computed separately (as on two threads) give bitwise the same product.
+    Eigen::VectorXd y_rows = Eigen::VectorXd::Zero(7 * n);
+    H.MultiplyRows(x, 4, 7, &y_rows);
+    H.MultiplyRows(x, 0, 4, &y_rows);
+    EXPECT_EQ(y_rows, y);
+    // Zero outside the band.
+    EXPECT_EQ(D.block(3 * n, 0, n, n).norm(), 0.0);
+  }
 }
 
-// Blocks of 1-6 rows take the fixed-size steps (src/math/fixed_block_steps.hpp), 7 and 19 the
-// general kernels: every size against the dense factorization.
 TEST_P(PentaDiagonalCholeskyTest, CholeskySolvesLikeDenseUpToConditionNumber1e12) {
   test::Random rng(2);
   for (double condition : {1.0, 1e3, 1e6, 1e9, 1e12}) {
