@@ -331,27 +331,40 @@ void AddTransposeTimes(const Eigen::MatrixXd& M, const Eigen::VectorXd& t, Out&&
 
 }  // namespace
 
+void Transcription::CalcGradientRow(const TrajectoryState& s, const TrajectoryDerivatives& d, int k,
+                                    TranscriptionWorkspace* ws, Eigen::VectorXd* g) const {
+  Eigen::VectorXd& t = ws->scratch_v;
+  auto gk = g->segment((k - 1) * nq_, nq_);
+  gk = Wq(k).cwiseProduct(s.q[k] - problem_.q_nom[k]);
+  if (wq_lim_ > 0.0) AddExcess(s.q[k], q_lo_, q_hi_, wq_lim_, &gk);
+  t = Wv(k).cwiseProduct(s.v[k] - problem_.v_nom[k]);
+  if (wv_lim_ > 0.0) AddExcess(s.v[k], v_lo_, v_hi_, wv_lim_, &t);
+  AddTransposeTimes(d.dv_dq[k], t, gk);
+  if (k < N_) {
+    t = Wv(k + 1).cwiseProduct(s.v[k + 1] - problem_.v_nom[k + 1]);
+    if (wv_lim_ > 0.0) AddExcess(s.v[k + 1], v_lo_, v_hi_, wv_lim_, &t);
+    AddTransposeTimes(d.dv_dqm[k + 1], t, gk);
+  }
+  for (int j = k - 1; j <= k + 1; ++j) {
+    if (j < 0 || j > N_ - 1) continue;
+    t = WR_.cwiseProduct(s.tau[j]);
+    if (wt_lim_ > 0.0) AddExcess(s.tau[j], tau_lo_, tau_hi_, wt_lim_, &t);
+    AddTransposeTimes(d.DtauDq(j, k), t, gk);
+  }
+}
+
 void Transcription::CalcGradient(const TrajectoryState& s, const TrajectoryDerivatives& d,
                                  Eigen::VectorXd* g) {
+  ParallelFor(1, N_ + 1, num_threads_,
+              [&](int k, int thread) { CalcGradientRow(s, d, k, workspaces_[thread].get(), g); });
+}
+
+void Transcription::CalcGradientAndHessian(const TrajectoryState& s, const TrajectoryDerivatives& d,
+                                           Eigen::VectorXd* g, PentaDiagonalMatrix* H) {
+  // One parallel phase for both (each row's work is the one CalcGradient and CalcHessian do).
   ParallelFor(1, N_ + 1, num_threads_, [&](int k, int thread) {
-    Eigen::VectorXd& t = workspaces_[thread]->scratch_v;
-    auto gk = g->segment((k - 1) * nq_, nq_);
-    gk = Wq(k).cwiseProduct(s.q[k] - problem_.q_nom[k]);
-    if (wq_lim_ > 0.0) AddExcess(s.q[k], q_lo_, q_hi_, wq_lim_, &gk);
-    t = Wv(k).cwiseProduct(s.v[k] - problem_.v_nom[k]);
-    if (wv_lim_ > 0.0) AddExcess(s.v[k], v_lo_, v_hi_, wv_lim_, &t);
-    AddTransposeTimes(d.dv_dq[k], t, gk);
-    if (k < N_) {
-      t = Wv(k + 1).cwiseProduct(s.v[k + 1] - problem_.v_nom[k + 1]);
-      if (wv_lim_ > 0.0) AddExcess(s.v[k + 1], v_lo_, v_hi_, wv_lim_, &t);
-      AddTransposeTimes(d.dv_dqm[k + 1], t, gk);
-    }
-    for (int j = k - 1; j <= k + 1; ++j) {
-      if (j < 0 || j > N_ - 1) continue;
-      t = WR_.cwiseProduct(s.tau[j]);
-      if (wt_lim_ > 0.0) AddExcess(s.tau[j], tau_lo_, tau_hi_, wt_lim_, &t);
-      AddTransposeTimes(d.DtauDq(j, k), t, gk);
-    }
+    CalcGradientRow(s, d, k, workspaces_[thread].get(), g);
+    CalcHessianRow(s, d, k, workspaces_[thread].get(), H);
   });
 }
 

@@ -125,8 +125,7 @@ class TrajectoryOptimizer::Impl {
     s->time_derivatives = Seconds(t0, t1);
     s->time_contact =
         TicksToSeconds(transcription_.TakeContactTicks(), derivative_ticks, s->time_derivatives);
-    transcription_.CalcGradient(x_, derivatives_, &g_);
-    transcription_.CalcHessian(x_, derivatives_, &H_);
+    transcription_.CalcGradientAndHessian(x_, derivatives_, &g_, &H_);
     const Clock::time_point t2 = Clock::now();
     s->time_hessian = Seconds(t1, t2);
     internal::CalcScaling(H_, options_.scaling, &D_);

@@ -88,6 +88,16 @@ TEST(Transcription, AgreesWithTheOptimizerAndTakesAnotherDerivativeMethod) {
   PentaDiagonalMatrix H(p.num_steps, model.nq());
   transcription.CalcHessian(state, d, &H);
   EXPECT_EQ((H.MakeDense() - optimizer.EvalDenseHessian(q)).norm(), 0.0);
+  // Both in one parallel phase (the solver's route), on 1 and 2 threads: the same bits.
+  for (int threads : {1, 2}) {
+    transcription.SetNumThreads(threads);
+    Eigen::VectorXd g_both = Eigen::VectorXd::Constant(g.size(), 7.0);
+    PentaDiagonalMatrix H_both(p.num_steps, model.nq());
+    transcription.CalcGradientAndHessian(state, d, &g_both, &H_both);
+    EXPECT_EQ(g_both, g);
+    EXPECT_EQ(H_both.MakeDense(), H.MakeDense());
+  }
+  transcription.SetNumThreads(1);
   // The constraint blocks agree with the dense Jacobian.
   Eigen::MatrixXd At(p.num_steps * model.nq(), p.num_steps * transcription.num_unactuated());
   transcription.CalcDenseConstraintJacobianTranspose(d, &At);

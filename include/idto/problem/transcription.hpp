@@ -113,6 +113,10 @@ class Transcription {
   /// The Gauss-Newton Hessian (N blocks of nq), preallocated.
   void CalcHessian(const TrajectoryState& state, const TrajectoryDerivatives& derivatives,
                    PentaDiagonalMatrix* H);
+  /// CalcGradient and CalcHessian in one parallel phase (the same results, bit for bit).
+  void CalcGradientAndHessian(const TrajectoryState& state,
+                              const TrajectoryDerivatives& derivatives, Eigen::VectorXd* g,
+                              PentaDiagonalMatrix* H);
   /// h (N n_u): the unactuated rows of tau_0..tau_{N-1}, preallocated.
   void CalcConstraints(const TrajectoryState& state, Eigen::VectorXd* h) const;
   /// The merit L(q) + lambda^T h(q) of an evaluated state for multipliers lambda (N n_u),
@@ -145,6 +149,8 @@ class Transcription {
   // Weights of step k's position and velocity residuals (dt Q for k < N, Qf for k = N).
   const Eigen::VectorXd& Wq(int k) const { return k < N_ ? Wq_run_ : problem_.Qfq; }
   const Eigen::VectorXd& Wv(int k) const { return k < N_ ? Wv_run_ : problem_.Qfv; }
+  void CalcGradientRow(const TrajectoryState& s, const TrajectoryDerivatives& d, int k,
+                       TranscriptionWorkspace* ws, Eigen::VectorXd* g) const;
   void CalcHessianRow(const TrajectoryState& s, const TrajectoryDerivatives& d, int k,
                       TranscriptionWorkspace* ws, PentaDiagonalMatrix* H) const;
   // The limit bounds and weights (times dt) from problem_.limits and the model.
