@@ -7,6 +7,13 @@
 #include "idto/core/errors.hpp"
 #include "math/penta_diagonal_blocks.hpp"
 
+// The fixed-size steps (blocks up to kMaxFixedBlock rows) keep 1 / diag(L0) for the
+// substitution; the separator steps here do not write it, so the two-half order must stay
+// above that size.
+static_assert(idto::internal::SplitPentaDiagonalCholesky::kMinBlockSize >
+                  idto::internal::kMaxFixedBlock,
+              "two-half order only for blocks the fixed-size steps do not take");
+
 namespace idto::internal {
 
 SplitPentaDiagonalCholesky::SplitPentaDiagonalCholesky(int num_blocks, int block_size,
