@@ -1,7 +1,8 @@
 #pragma once
 
 // The penta-diagonal Cholesky's block steps (math/penta_diagonal_blocks.hpp) for blocks of
-// n <= kMaxFixedBlock rows known at compile time, private to src/. At these sizes the general
+// n <= kMaxFixedBlock rows known at compile time, and the dispatch on the block size that
+// PentaDiagonalMatrix::MultiplyRows shares; private to src/. At these sizes the general
 // kernels (AVX2 tiles of 4, or Eigen's dynamic-size products) spend most of their time on loop
 // control and packing: the pendulum, acrobot, spinner and hopper have blocks of 1-5 (measured in
 // docs/benchmarks.md, "session 32"). The loops below unroll completely; each entry gets the

@@ -303,15 +303,9 @@ double Transcription::ConstraintViolation(const TrajectoryState& s) const {
 }
 
 void Transcription::CalcDerivatives(const TrajectoryState& s, TrajectoryDerivatives* d) {
-  // Without quaternions v_k = (q_k - q_{k-1}) / dt: the partials are constant (a serial pass
-  // worth 1-2 % of a small model's iteration).
-  const bool constant = !model_.has_quaternions();
-  if (!constant || d->constant_velocity_partials_dt != dt_) {
-    for (int k = 1; k <= N_; ++k) {
-      CalcDiscreteVelocityPartials(model_, s.q[k], s.q[k - 1], dt_, s.v[k], &d->Nplus[k],
-                                   &d->dv_dq[k], &d->dv_dqm[k]);
-    }
-    d->constant_velocity_partials_dt = constant ? dt_ : 0.0;
+  for (int k = 1; k <= N_; ++k) {
+    CalcDiscreteVelocityPartials(model_, s.q[k], s.q[k - 1], dt_, s.v[k], &d->Nplus[k],
+                                 &d->dv_dq[k], &d->dv_dqm[k]);
   }
   evaluator_->Calc(s, this, d);
 }

@@ -47,10 +47,6 @@ struct TrajectoryDerivatives {
   std::vector<Eigen::MatrixXd> dtau_dqm, dtau_dq, dtau_dqp;
   /// Scratch of the evaluators: M(q_k), k = 0..N; nv x nv.
   std::vector<Eigen::MatrixXd> M;
-  /// For a model without floating joints, the velocity partials above do not depend on q (N+ =
-  /// I): the time step they were computed for, so that CalcDerivatives skips recomputing them;
-  /// 0 when they must be computed (always, with floating joints). Transcription::CalcDerivatives.
-  double constant_velocity_partials_dt{0.0};
 
   /// d tau_j / d q_s for s in {j - 1, j, j + 1} (nv x nq).
   const Eigen::MatrixXd& DtauDq(int j, int s) const {
