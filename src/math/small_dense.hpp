@@ -387,6 +387,33 @@ inline void SubtractSignedProduct(const double* T, int ldt, const double* X, int
 
 namespace small_dense_detail {
 
+// CholeskyColumnsInPlace below kSmallKernelLimit: right-looking column updates that skip zero
+// multipliers. R > 0: size == R known at compile time (the banded KKT's small blocks); R = 0:
+// size at run time. The same operations in the same order either way.
+template <int R>
+inline int CholeskyColumnsRightLooking(double tolerance, const double* diagonal, int size,
+                                       int begin, int end, double* M, int ld,
+                                       double* inverse_diagonal, double* relative_pivot) {
+  const int s = R > 0 ? R : size;
+  for (int k = begin; k < end; ++k) {
+    double* __restrict mk = M + static_cast<long>(k) * ld;
+    const double d = mk[k];
+    if (!AcceptPivot(d, tolerance, diagonal[k], relative_pivot)) return k;
+    const double lkk = std::sqrt(d);
+    mk[k] = lkk;
+    const double inverse = 1.0 / lkk;
+    inverse_diagonal[k] = inverse;
+    for (int i = k + 1; i < s; ++i) mk[i] *= inverse;
+    for (int j = k + 1; j < s; ++j) {
+      const double a = mk[j];
+      if (a == 0.0) continue;
+      double* __restrict mj = M + static_cast<long>(j) * ld;
+      for (int i = j; i < s; ++i) mj[i] -= a * mk[i];
+    }
+  }
+  return -1;
+}
+
 // CholeskyColumnsInPlace from kSmallKernelLimit up: left-looking (each column by one Eigen
 // matrix-vector product with the columns before it), then the trailing block's update by one
 // Eigen rank-(end − begin) product.
@@ -436,23 +463,8 @@ inline int CholeskyColumnsInPlace(double tolerance, const double* diagonal, int 
     return small_dense_detail::CholeskyColumnsLeftLooking(tolerance, diagonal, size, begin, end, M,
                                                           ld, inverse_diagonal, relative_pivot);
   }
-  for (int k = begin; k < end; ++k) {
-    double* __restrict mk = M + static_cast<long>(k) * ld;
-    const double d = mk[k];
-    if (!AcceptPivot(d, tolerance, diagonal[k], relative_pivot)) return k;
-    const double lkk = std::sqrt(d);
-    mk[k] = lkk;
-    const double inverse = 1.0 / lkk;
-    inverse_diagonal[k] = inverse;
-    for (int i = k + 1; i < size; ++i) mk[i] *= inverse;
-    for (int j = k + 1; j < size; ++j) {
-      const double a = mk[j];
-      if (a == 0.0) continue;
-      double* __restrict mj = M + static_cast<long>(j) * ld;
-      for (int i = j; i < size; ++i) mj[i] -= a * mk[i];
-    }
-  }
-  return -1;
+  return small_dense_detail::CholeskyColumnsRightLooking<0>(
+      tolerance, diagonal, size, begin, end, M, ld, inverse_diagonal, relative_pivot);
 }
 
 }  // namespace idto::internal

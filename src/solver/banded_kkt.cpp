@@ -13,103 +13,6 @@
 namespace idto {
 
 // ------------------------------------------------------------------------------------------
-// BlockConstraintJacobian
-
-BlockConstraintJacobian::BlockConstraintJacobian(int num_steps, int num_positions,
-                                                 int num_constraints) {
-  Resize(num_steps, num_positions, num_constraints);
-}
-
-void BlockConstraintJacobian::Resize(int num_steps, int num_positions, int num_constraints) {
-  if (num_steps < 0 || num_positions < 0 || num_constraints < 0) {
-    ThrowInvalidArgument("BlockConstraintJacobian::Resize", "sizes (N, n, nu)",
-                         std::to_string(num_steps) + ", " + std::to_string(num_positions) + ", " +
-                             std::to_string(num_constraints),
-                         "non-negative numbers");
-  }
-  num_steps_ = num_steps;
-  num_positions_ = num_positions;
-  num_constraints_ = num_constraints;
-  blocks_.assign(3 * static_cast<size_t>(num_steps),
-                 Eigen::MatrixXd::Zero(num_constraints, num_positions));
-}
-
-namespace {
-
-[[noreturn]] void ThrowNoBlock(int j, int s, int N) {
-  ThrowInvalidArgument(
-      "BlockConstraintJacobian::Block", "(j, s)",
-      "(" + std::to_string(j) + ", " + std::to_string(s) + ")",
-      "0 <= j < N = " + std::to_string(N) + " and s in {j-1, j, j+1} within [1, N]");
-}
-
-}  // namespace
-
-Eigen::MatrixXd& BlockConstraintJacobian::Block(int j, int s) {
-  if (!HasBlock(j, s)) ThrowNoBlock(j, s, num_steps_);
-  return blocks_[Index(j, s)];
-}
-
-const Eigen::MatrixXd& BlockConstraintJacobian::Block(int j, int s) const {
-  if (!HasBlock(j, s)) ThrowNoBlock(j, s, num_steps_);
-  return blocks_[Index(j, s)];
-}
-
-void BlockConstraintJacobian::SetZero() {
-  for (Eigen::MatrixXd& b : blocks_) b.setZero();
-}
-
-void BlockConstraintJacobian::Multiply(const Eigen::VectorXd& p, Eigen::VectorXd* Ap) const {
-  CheckSize("BlockConstraintJacobian::Multiply", "p", p.size(), cols(), "N n");
-  const int n = num_positions_;
-  const int nu = num_constraints_;
-  if (Ap->size() != rows()) Ap->resize(rows());
-  for (int j = 0; j < num_steps_; ++j) {
-    auto y = Ap->segment(j * nu, nu);
-    y.setZero();
-    for (int s = j - 1; s <= j + 1; ++s) {
-      if (!HasBlock(j, s)) continue;
-      y.noalias() += blocks_[Index(j, s)] * p.segment((s - 1) * n, n);
-    }
-  }
-}
-
-void BlockConstraintJacobian::MultiplyTranspose(const Eigen::VectorXd& lambda,
-                                                Eigen::VectorXd* Atl) const {
-  if (Atl->size() != cols()) Atl->resize(cols());
-  Atl->setZero();
-  AddMultiplyTranspose(lambda, Atl);
-}
-
-void BlockConstraintJacobian::AddMultiplyTranspose(const Eigen::VectorXd& lambda,
-                                                   Eigen::VectorXd* y) const {
-  CheckSize("BlockConstraintJacobian::AddMultiplyTranspose", "lambda", lambda.size(), rows(),
-            "N nu");
-  CheckSize("BlockConstraintJacobian::AddMultiplyTranspose", "y", y->size(), cols(), "N n");
-  const int n = num_positions_;
-  const int nu = num_constraints_;
-  for (int j = 0; j < num_steps_; ++j) {
-    const auto l = lambda.segment(j * nu, nu);
-    for (int s = j - 1; s <= j + 1; ++s) {
-      if (!HasBlock(j, s)) continue;
-      y->segment((s - 1) * n, n).noalias() += blocks_[Index(j, s)].transpose() * l;
-    }
-  }
-}
-
-Eigen::MatrixXd BlockConstraintJacobian::MakeDense() const {
-  const int n = num_positions_;
-  const int nu = num_constraints_;
-  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(rows(), cols());
-  for (int j = 0; j < num_steps_; ++j) {
-    for (int s = j - 1; s <= j + 1; ++s) {
-      if (HasBlock(j, s)) A.block(j * nu, (s - 1) * n, nu, n) = blocks_[Index(j, s)];
-    }
-  }
-  return A;
-}
-
-// ------------------------------------------------------------------------------------------
 // KktStatus
 
 std::string KktStatus::Message() const {
@@ -182,17 +85,122 @@ void BandedKktSolver::Resize(int num_steps, int num_positions, int num_constrain
   A_ = nullptr;
 }
 
+namespace {
+
+/// Blocks of m = n + nu rows up to this have the factorization and the sweeps compiled for their
+/// size (the spinner's m = 4, the acrobot's 3, the hopper's 8): the loops unroll and no call
+/// dispatches on the size at run time. Larger blocks take the kernels of math/small_dense.hpp
+/// with m at run time. Either way each entry gets the same operations in the same order.
+constexpr int kMaxFixedKktBlock = 8;
+
+/// Calls f(std::integral_constant<int, M>{}) with M = m for 1 <= m <= kMaxFixedKktBlock, else
+/// with M = 0 (m at run time).
+template <int M = 1, typename F>
+decltype(auto) WithKktBlockSize(int m, F&& f) {
+  if constexpr (M > kMaxFixedKktBlock) {
+    return f(std::integral_constant<int, 0>{});
+  } else {
+    if (m == M) return f(std::integral_constant<int, M>{});
+    return WithKktBlockSize<M + 1>(m, std::forward<F>(f));
+  }
+}
+
+/// The dense kernels of the factorization and the sweeps on m × m blocks (leading dimension m):
+/// M > 0 is m at compile time, M = 0 at run time.
+template <int M>
+struct KktKernels {
+  /// X ← L⁻¹ X (X: m × cols), d = 1 / diag(L).
+  static void LowerSolve(const double* L, const double* d, int m, double* X, int cols) {
+    if constexpr (M > 0) {
+      internal::small_dense_detail::LowerSolvePairsFixed<M>(L, M, d, X, M, cols);
+    } else {
+      internal::LowerSolveInPlace(L, m, d, m, X, m, cols);
+    }
+  }
+  /// x ← L⁻ᵀ x (L's strictly upper triangle mirrors its lower one).
+  static void LowerTransposeSolve(const double* L, const double* d, int m, double* x) {
+    if constexpr (M > 0) {
+      internal::small_dense_detail::LowerTransposeSolveFixed<M>(L, M, d, x);
+    } else {
+      internal::LowerTransposeSolveInPlace(L, m, d, m, x);
+    }
+  }
+  /// y −= Aᵀ x.
+  static void SubtractTransposeTimes(const double* A, int m, const double* x, double* y) {
+    if constexpr (M > 0) {
+      internal::small_dense_detail::SubtractTransposeTimesFixed<M>(A, M, x, y);
+    } else {
+      internal::SubtractTransposeTimes(A, m, m, m, x, y);
+    }
+  }
+  /// y += A x.
+  static void AddTimes(const double* A, int m, const double* x, double* y) {
+    if constexpr (M > 0) {
+      internal::small_dense_detail::AddTimesKernel<M>::Run(A, M, x, y);
+    } else {
+      internal::AddTimes(A, m, m, m, x, y);
+    }
+  }
+  /// C ← C − T Σ X, Σ = diag(I_n, −I_{m−n}); `lower` as internal::SubtractSignedProduct.
+  static void SubtractSignedProduct(const double* T, const double* X, int m, int n, bool lower,
+                                    double* C) {
+    if constexpr (M > 0) {
+      internal::small_dense_detail::SubtractSignedProductFixedRows<M>(T, M, X, M, M, M, n, C, M);
+    } else {
+      internal::SubtractSignedProduct(T, m, X, m, m, m, m, n, lower, C, m);
+    }
+  }
+  /// internal::CholeskyColumnsInPlace on the m × m block F.
+  static int Cholesky(double tolerance, const double* scales, int m, int begin, int end, double* F,
+                      double* inverse_diagonal, double* relative) {
+    if constexpr (M > 0) {
+      return internal::small_dense_detail::CholeskyColumnsRightLooking<M>(
+          tolerance, scales, M, begin, end, F, M, inverse_diagonal, relative);
+    } else {
+      return internal::CholeskyColumnsInPlace(tolerance, scales, m, begin, end, F, m,
+                                              inverse_diagonal, relative);
+    }
+  }
+  /// T = Xᵀ.
+  static void Transpose(const double* X, int m, double* T) {
+    const int s = M > 0 ? M : m;
+    for (int j = 0; j < s; ++j) {
+      for (int i = 0; i < s; ++i) T[j + i * s] = X[i + j * s];
+    }
+  }
+};
+
+/// Copies the r × c matrix B (column-major, leading dimension r), or its transpose, into the
+/// block of the m × m matrix K whose top-left entry is (row, col).
+inline void CopyBlock(const Eigen::MatrixXd& B, bool transpose, int row, int col, int m,
+                      double* K) {
+  const int rows = static_cast<int>(B.rows()), cols = static_cast<int>(B.cols());
+  const double* b = B.data();
+  if (transpose) {
+    for (int j = 0; j < rows; ++j) {
+      for (int i = 0; i < cols; ++i) K[row + i + (col + j) * m] = b[j + i * rows];
+    }
+  } else {
+    for (int j = 0; j < cols; ++j) {
+      for (int i = 0; i < rows; ++i) K[row + i + (col + j) * m] = b[i + j * rows];
+    }
+  }
+}
+
+}  // namespace
+
+template <int M>
 bool BandedKktSolver::FactorPivot(int r, double* scales, KktStatus* status) {
   // F holds D_r's lower triangle, D = [P Qᵀ; Q R] = F Σ Fᵀ with F = [Lp 0; Y Ls]: the first n
   // columns of a right-looking Cholesky give P = Lp Lpᵀ, Y = Q Lp⁻ᵀ and leave the Schur
   // complement S = R − Y Yᵀ in the trailing block; its negation −S = Ls Lsᵀ.
-  Eigen::MatrixXd& F = F_[r];
-  const int m = m_;
-  double* f = F.data();
-  for (int i = 0; i < n_; ++i) scales[i] = F(i, i);
+  const int m = M > 0 ? M : m_;
+  const int n = n_;
+  double* f = F_[r].data();
+  for (int i = 0; i < n; ++i) scales[i] = f[i + i * m];
   double relative = 0.0;
   double* inverse = inverse_diagonal_.data() + static_cast<long>(r) * m;
-  int row = internal::CholeskyColumnsInPlace(0.0, scales, m, 0, n_, f, m, inverse, &relative);
+  int row = KktKernels<M>::Cholesky(0.0, scales, m, 0, n, f, inverse, &relative);
   if (row >= 0) {
     *status = {KktStatus::Code::kHessianNotPositiveDefinite, r, row, relative};
     return false;
@@ -202,105 +210,115 @@ bool BandedKktSolver::FactorPivot(int r, double* scales, KktStatus* status) {
   // squared norm in the metric of H⁻¹, so d / scale is about the squared sine of the row's angle
   // with the span of the rows before it. (−S's own diagonal is no scale: for a dependent row it
   // is round-off itself.)
-  for (int j = n_; j < m; ++j) {
-    for (int i = j; i < m; ++i) F(i, j) = -F(i, j);
-    scales[j] += F.row(j).head(n_).squaredNorm();
+  for (int j = n; j < m; ++j) {
+    for (int i = j; i < m; ++i) f[i + j * m] = -f[i + j * m];
+    double norm = 0.0;
+    for (int k = 0; k < n; ++k) norm += f[j + k * m] * f[j + k * m];
+    scales[j] += norm;
   }
-  row =
-      internal::CholeskyColumnsInPlace(rank_tolerance_, scales, m, n_, m, f, m, inverse, &relative);
+  row = KktKernels<M>::Cholesky(rank_tolerance_, scales, m, n, m, f, inverse, &relative);
   if (row >= 0) {
-    *status = {KktStatus::Code::kConstraintsRankDeficient, r, row - n_, relative};
+    *status = {KktStatus::Code::kConstraintsRankDeficient, r, row - n, relative};
     return false;
   }
   // The strictly upper triangle mirrors the lower one: row k of F, contiguous, for the backward
   // sweep's column-oriented F⁻ᵀ (internal::LowerTransposeSolveInPlace).
   for (int j = 1; j < m; ++j) {
-    for (int i = 0; i < j; ++i) F(i, j) = F(j, i);
+    for (int i = 0; i < j; ++i) f[i + j * m] = f[j + i * m];
   }
   return true;
 }
 
+template <int M>
 void BandedKktSolver::AddConstraintScale(const Eigen::MatrixXd& Vt, double* scales) const {
-  for (int u = 0; u < nu_; ++u) scales[n_ + u] += Vt.col(n_ + u).head(n_).squaredNorm();
-}
-
-void BandedKktSolver::AssembleCoupling(int r, int c, Eigen::MatrixXd* Kt) const {
-  if (c < r) {
-    // K(c, r) = K(r, c)ᵀ: rows (p_c, λ_c), columns (p_r, λ_r): H(r, c)ᵀ and ∂h_r/∂q_{c+1}ᵀ; the
-    // rows of λ_c are zero because h_c does not involve q_{r+1} for r > c.
-    Kt->topLeftCorner(n_, n_) = (c == r - 1 ? H_->B(r) : H_->A(r)).transpose();
-    Kt->topRightCorner(n_, nu_) = A_->Block(r, c + 1).transpose();
-    Kt->bottomRows(nu_).setZero();
-  } else {
-    // K(c, r), c > r: H(c, r) and ∂h_c/∂q_{r+1}; the columns of λ_r are zero (h_r does not
-    // involve q_{c+1}).
-    Kt->topLeftCorner(n_, n_) = c == r + 1 ? H_->B(c) : H_->A(c);
-    Kt->bottomLeftCorner(nu_, n_) = A_->Block(c, r + 1);
-    Kt->rightCols(nu_).setZero();
+  const int m = M > 0 ? M : m_;
+  const double* v = Vt.data();
+  for (int j = n_; j < m; ++j) {
+    double norm = 0.0;
+    for (int i = 0; i < n_; ++i) norm += v[i + j * m] * v[i + j * m];
+    scales[j] += norm;
   }
 }
 
+template <int M>
+void BandedKktSolver::AssembleCoupling(int r, int c, Eigen::MatrixXd* Kt) const {
+  const int m = M > 0 ? M : m_;
+  double* k = Kt->data();
+  std::fill(k, k + m * m, 0.0);
+  if (c < r) {
+    // K(c, r) = K(r, c)ᵀ: rows (p_c, λ_c), columns (p_r, λ_r): H(r, c)ᵀ and ∂h_r/∂q_{c+1}ᵀ; the
+    // rows of λ_c are zero because h_c does not involve q_{r+1} for r > c.
+    CopyBlock(c == r - 1 ? H_->B(r) : H_->A(r), true, 0, 0, m, k);
+    CopyBlock(A_->Block(r, c + 1), true, 0, n_, m, k);
+  } else {
+    // K(c, r), c > r: H(c, r) and ∂h_c/∂q_{r+1}; the columns of λ_r are zero (h_r does not
+    // involve q_{c+1}).
+    CopyBlock(c == r + 1 ? H_->B(c) : H_->A(c), false, 0, 0, m, k);
+    CopyBlock(A_->Block(c, r + 1), false, n_, 0, m, k);
+  }
+}
+
+template <int M>
 void BandedKktSolver::EliminateSecond(int r, int c2, bool diagonal, Eigen::MatrixXd* D,
                                       Eigen::MatrixXd* Vt2, double* scales, Half* half) const {
-  const int m = m_;
+  const int m = M > 0 ? M : m_;
+  double* d = D->data();
+  std::fill(d, d + m * m, 0.0);
   if (diagonal) {
-    D->topLeftCorner(n_, n_) = H_->C(r);
-    D->bottomLeftCorner(nu_, n_) = A_->Block(r, r + 1);
-    D->bottomRightCorner(nu_, nu_).setZero();
-  } else {
-    D->setZero();
+    CopyBlock(H_->C(r), false, 0, 0, m, d);
+    CopyBlock(A_->Block(r, r + 1), false, n_, 0, m, d);
   }
   std::fill(scales + n_, scales + m, 0.0);
   if (c2 < 0) return;
   // Vt2 = F_c2⁻¹ K(c2, r); D −= Vt2ᵀ Σ Vt2.
-  AssembleCoupling(r, c2, Vt2);
-  internal::LowerSolveInPlace(F_[c2].data(), m, InverseDiagonal(c2), m, Vt2->data(), m, m);
-  AddConstraintScale(*Vt2, scales);
-  internal::Transpose(Vt2->data(), m, m, m, half->T2.data(), m);
-  internal::SubtractSignedProduct(half->T2.data(), m, Vt2->data(), m, m, m, m, n_, true, D->data(),
-                                  m);
+  AssembleCoupling<M>(r, c2, Vt2);
+  KktKernels<M>::LowerSolve(F_[c2].data(), InverseDiagonal(c2), m, Vt2->data(), m);
+  AddConstraintScale<M>(*Vt2, scales);
+  KktKernels<M>::Transpose(Vt2->data(), m, half->T2.data());
+  KktKernels<M>::SubtractSignedProduct(half->T2.data(), Vt2->data(), m, n_, true, d);
 }
 
+template <int M>
 void BandedKktSolver::EliminateFirst(int r, int c1, const Eigen::MatrixXd* Vt2, Eigen::MatrixXd* D,
                                      Eigen::MatrixXd* Vt1, double* scales, Half* half) const {
   if (c1 < 0) return;
   // U(r, c1)ᵀ = K(c1, r) − V(c1, c2) Σ V(r, c2)ᵀ, with T1 = V(c1, c2);
   // Vt1 = F_c1⁻¹ U(r, c1)ᵀ; D −= Vt1ᵀ Σ Vt1.
-  const int m = m_;
-  AssembleCoupling(r, c1, Vt1);
+  const int m = M > 0 ? M : m_;
+  AssembleCoupling<M>(r, c1, Vt1);
   if (Vt2 != nullptr) {
-    internal::SubtractSignedProduct(half->T1.data(), m, Vt2->data(), m, m, m, m, n_, false,
-                                    Vt1->data(), m);
+    KktKernels<M>::SubtractSignedProduct(half->T1.data(), Vt2->data(), m, n_, false, Vt1->data());
   }
-  internal::LowerSolveInPlace(F_[c1].data(), m, InverseDiagonal(c1), m, Vt1->data(), m, m);
-  AddConstraintScale(*Vt1, scales);
-  internal::Transpose(Vt1->data(), m, m, m, half->T1.data(), m);
-  internal::SubtractSignedProduct(half->T1.data(), m, Vt1->data(), m, m, m, m, n_, true, D->data(),
-                                  m);
+  KktKernels<M>::LowerSolve(F_[c1].data(), InverseDiagonal(c1), m, Vt1->data(), m);
+  AddConstraintScale<M>(*Vt1, scales);
+  KktKernels<M>::Transpose(Vt1->data(), m, half->T1.data());
+  KktKernels<M>::SubtractSignedProduct(half->T1.data(), Vt1->data(), m, n_, true, D->data());
 }
 
+template <int M>
 void BandedKktSolver::FactorForwardHalf() {
   Half& half = half_[0];
   const int k = split_;
   double* scales = half.scales.data();
   for (int r = 0; r < k; ++r) {
-    EliminateSecond(r, r >= 2 ? r - 2 : -1, true, &F_[r], &Vt2_[r], scales, &half);
-    EliminateFirst(r, r - 1, r >= 2 ? &Vt2_[r] : nullptr, &F_[r], &Vt1_[r], scales, &half);
-    if (!FactorPivot(r, scales, &half.status)) return;
+    EliminateSecond<M>(r, r >= 2 ? r - 2 : -1, true, &F_[r], &Vt2_[r], scales, &half);
+    EliminateFirst<M>(r, r - 1, r >= 2 ? &Vt2_[r] : nullptr, &F_[r], &Vt1_[r], scales, &half);
+    if (!FactorPivot<M>(r, scales, &half.status)) return;
   }
   if (k == num_steps_) return;
   // The separator's forward part (k >= 3): D_k against k − 2 and k − 1; D_{k+1} against k − 1;
   // U(k + 1, k)ᵀ's part K(k, k + 1) − V(k, k − 1) Σ V(k + 1, k − 1)ᵀ, in Vt1_[k + 1].
   double* scales_k = separator_scales_[0][0].data();
   double* scales_k1 = separator_scales_[0][1].data();
-  EliminateSecond(k, k - 2, true, &F_[k], &Vt2_[k], scales_k, &half);
-  EliminateFirst(k, k - 1, &Vt2_[k], &F_[k], &Vt1_[k], scales_k, &half);
-  EliminateSecond(k + 1, k - 1, true, &F_[k + 1], &Vt2_[k + 1], scales_k1, &half);
-  AssembleCoupling(k + 1, k, &Vt1_[k + 1]);
-  internal::SubtractSignedProduct(half.T1.data(), m_, Vt2_[k + 1].data(), m_, m_, m_, m_, n_, false,
-                                  Vt1_[k + 1].data(), m_);
+  EliminateSecond<M>(k, k - 2, true, &F_[k], &Vt2_[k], scales_k, &half);
+  EliminateFirst<M>(k, k - 1, &Vt2_[k], &F_[k], &Vt1_[k], scales_k, &half);
+  EliminateSecond<M>(k + 1, k - 1, true, &F_[k + 1], &Vt2_[k + 1], scales_k1, &half);
+  AssembleCoupling<M>(k + 1, k, &Vt1_[k + 1]);
+  KktKernels<M>::SubtractSignedProduct(half.T1.data(), Vt2_[k + 1].data(), m_, n_, false,
+                                       Vt1_[k + 1].data());
 }
 
+template <int M>
 void BandedKktSolver::FactorBackwardHalf() {
   Half& half = half_[1];
   const int k = split_;
@@ -308,10 +326,10 @@ void BandedKktSolver::FactorBackwardHalf() {
   if (k == N) return;
   double* scales = half.scales.data();
   for (int r = N - 1; r >= k + 2; --r) {
-    EliminateSecond(r, r + 2 < N ? r + 2 : -1, true, &F_[r], &Vt2_[r], scales, &half);
-    EliminateFirst(r, r + 1 < N ? r + 1 : -1, r + 2 < N ? &Vt2_[r] : nullptr, &F_[r], &Vt1_[r],
-                   scales, &half);
-    if (!FactorPivot(r, scales, &half.status)) return;
+    EliminateSecond<M>(r, r + 2 < N ? r + 2 : -1, true, &F_[r], &Vt2_[r], scales, &half);
+    EliminateFirst<M>(r, r + 1 < N ? r + 1 : -1, r + 2 < N ? &Vt2_[r] : nullptr, &F_[r], &Vt1_[r],
+                      scales, &half);
+    if (!FactorPivot<M>(r, scales, &half.status)) return;
     if (!BackwardPivotsWellScaled(r)) {
       half.weak_pivot = true;
       return;
@@ -321,12 +339,11 @@ void BandedKktSolver::FactorBackwardHalf() {
   // k + 2; D_k against k + 2; C_ = −V(k, k + 2) Σ V(k + 1, k + 2)ᵀ. Without K's own blocks.
   double* scales_k = separator_scales_[1][0].data();
   double* scales_k1 = separator_scales_[1][1].data();
-  EliminateSecond(k + 1, k + 3, false, &E_[1], &Wt_[1], scales_k1, &half);
-  EliminateFirst(k + 1, k + 2, &Wt_[1], &E_[1], &Wt1_, scales_k1, &half);
-  EliminateSecond(k, k + 2, false, &E_[0], &Wt_[0], scales_k, &half);
+  EliminateSecond<M>(k + 1, k + 3, false, &E_[1], &Wt_[1], scales_k1, &half);
+  EliminateFirst<M>(k + 1, k + 2, &Wt_[1], &E_[1], &Wt1_, scales_k1, &half);
+  EliminateSecond<M>(k, k + 2, false, &E_[0], &Wt_[0], scales_k, &half);
   C_.setZero();  // half.T2 = Wt_[0]ᵀ = V(k, k + 2), from EliminateSecond
-  internal::SubtractSignedProduct(half.T2.data(), m_, Wt1_.data(), m_, m_, m_, m_, n_, false,
-                                  C_.data(), m_);
+  KktKernels<M>::SubtractSignedProduct(half.T2.data(), Wt1_.data(), m_, n_, false, C_.data());
 }
 
 bool BandedKktSolver::BackwardPivotsWellScaled(int r) const {
@@ -352,9 +369,10 @@ bool BandedKktSolver::BackwardPivotsWellScaled(int r) const {
   return true;
 }
 
+template <int M>
 bool BandedKktSolver::FactorSeparator() {
   const int k = split_;
-  const int m = m_;
+  const int m = M > 0 ? M : m_;
   Half& half = half_[0];  // its scratch is free again
   // D_k and D_{k+1}: K's blocks less both halves' updates; U(k + 1, k)ᵀ likewise.
   for (int i = 0; i < 2; ++i) {
@@ -363,16 +381,15 @@ bool BandedKktSolver::FactorSeparator() {
   }
   Vt1_[k + 1] += C_;
   status_ = {KktStatus::Code::kSuccess, -1, -1, 0.0};
-  if (!FactorPivot(k, separator_scales_[0][0].data(), &status_)) return false;
+  if (!FactorPivot<M>(k, separator_scales_[0][0].data(), &status_)) return false;
   // Vt1 = F_k⁻¹ U(k + 1, k)ᵀ; D_{k+1} −= Vt1ᵀ Σ Vt1.
   double* scales = separator_scales_[0][1].data();
   Eigen::MatrixXd& Vt1 = Vt1_[k + 1];
-  internal::LowerSolveInPlace(F_[k].data(), m, InverseDiagonal(k), m, Vt1.data(), m, m);
-  AddConstraintScale(Vt1, scales);
-  internal::Transpose(Vt1.data(), m, m, m, half.T1.data(), m);
-  internal::SubtractSignedProduct(half.T1.data(), m, Vt1.data(), m, m, m, m, n_, true,
-                                  F_[k + 1].data(), m);
-  return FactorPivot(k + 1, scales, &status_);
+  KktKernels<M>::LowerSolve(F_[k].data(), InverseDiagonal(k), m, Vt1.data(), m);
+  AddConstraintScale<M>(Vt1, scales);
+  KktKernels<M>::Transpose(Vt1.data(), m, half.T1.data());
+  KktKernels<M>::SubtractSignedProduct(half.T1.data(), Vt1.data(), m, n_, true, F_[k + 1].data());
+  return FactorPivot<M>(k + 1, scales, &status_);
 }
 
 KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConstraintJacobian& A) {
@@ -391,6 +408,11 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
   }
   H_ = &H;
   A_ = &A;
+  return WithKktBlockSize(m_, [this](auto size) { return FactorInOrder<decltype(size)::value>(); });
+}
+
+template <int M>
+KktStatus BandedKktSolver::FactorInOrder() {
   // Signed block Cholesky of the interleaved matrix K (unknowns x_r = (p_r, λ_r)) in an
   // elimination order: K = G Σ̂ Gᵀ, G(r, r) = F_r, G(r, c) = V(r, c) Σ for the neighbours c
   // eliminated before r, with
@@ -400,9 +422,9 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
   // are independent: no step of one is a neighbour of a step of the other). Each step has at
   // most two neighbours before it in its half and there is no fill-in, so U(r, c2) = K(r, c2).
   // Each off-diagonal block costs one triangular solve with F_c. D_r is symmetric: only its
-  // lower triangle is formed (in F_[r]) and read. The products go through internal:: kernels
-  // (src/math/small_dense.hpp); the transposes in Half turn the Σ-weighted products into
-  // column updates.
+  // lower triangle is formed (in F_[r]) and read. The products go through KktKernels<M> (sizes
+  // fixed at compile time up to kMaxFixedKktBlock, else src/math/small_dense.hpp's kernels);
+  // the transposes in Half turn the Σ-weighted products into column updates.
   for (Half& half : half_) {
     half.status = {KktStatus::Code::kSuccess, -1, -1, 0.0};
     half.weak_pivot = false;
@@ -411,12 +433,13 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
   if (split_ < num_steps_) {
     ParallelFor(0, 2, std::min(num_threads_, 2), [this](int i, int) {
       if (i == 0) {
-        FactorForwardHalf();
+        FactorForwardHalf<M>();
       } else {
-        FactorBackwardHalf();
+        FactorBackwardHalf<M>();
       }
     });
-    if (half_[0].status.ok() && half_[1].status.ok() && !half_[1].weak_pivot && FactorSeparator()) {
+    if (half_[0].status.ok() && half_[1].status.ok() && !half_[1].weak_pivot &&
+        FactorSeparator<M>()) {
       return status_;
     }
     // The backward half needs each ∂h_j/∂q_{j+1} of full row rank, and well scaled against h_j's
@@ -426,7 +449,7 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
     split_ = num_steps_;
     half_[0].status = {KktStatus::Code::kSuccess, -1, -1, 0.0};
   }
-  FactorForwardHalf();
+  FactorForwardHalf<M>();
   status_ = half_[0].status;
   return status_;
 }
@@ -479,8 +502,9 @@ int BandedKktSolver::Neighbours(int r, int* c) const {
   return count;
 }
 
+template <int M>
 void BandedKktSolver::ForwardSweep(int e_begin, int e_end) {
-  const int m = m_;
+  const int m = M > 0 ? M : m_;
   double* z = z_.data();
   int c[4];
   for (int e = e_begin; e < e_end; ++e) {
@@ -489,16 +513,17 @@ void BandedKktSolver::ForwardSweep(int e_begin, int e_end) {
     const int count = Neighbours(r, c);
     for (int i = 0; i < count; ++i) {
       if (Position(c[i]) > e) continue;
-      internal::SubtractTransposeTimes(Coupling(r, c[i]).data(), m, m, m,
-                                       z + static_cast<long>(c[i]) * m, zr);
+      KktKernels<M>::SubtractTransposeTimes(Coupling(r, c[i]).data(), m,
+                                            z + static_cast<long>(c[i]) * m, zr);
     }
-    internal::LowerSolveInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr, m, 1);
+    KktKernels<M>::LowerSolve(F_[r].data(), InverseDiagonal(r), m, zr, 1);
     for (int i = n_; i < m; ++i) zr[i] = -zr[i];
   }
 }
 
+template <int M>
 void BandedKktSolver::BackwardSweep(int e_begin, int e_end, double* w) {
-  const int m = m_;
+  const int m = M > 0 ? M : m_;
   double* z = z_.data();
   int c[4];
   for (int e = e_end - 1; e >= e_begin; --e) {
@@ -510,16 +535,17 @@ void BandedKktSolver::BackwardSweep(int e_begin, int e_end, double* w) {
       if (Position(c[i]) < e) continue;
       if (!any) std::fill(w, w + m, 0.0);
       any = true;
-      internal::AddTimes(Coupling(c[i], r).data(), m, m, m, z + static_cast<long>(c[i]) * m, w);
+      KktKernels<M>::AddTimes(Coupling(c[i], r).data(), m, z + static_cast<long>(c[i]) * m, w);
     }
     if (any) {
       for (int i = 0; i < n_; ++i) zr[i] -= w[i];
       for (int i = n_; i < m; ++i) zr[i] += w[i];
     }
-    internal::LowerTransposeSolveInPlace(F_[r].data(), m, InverseDiagonal(r), m, zr);
+    KktKernels<M>::LowerTransposeSolve(F_[r].data(), InverseDiagonal(r), m, zr);
   }
 }
 
+template <int M>
 void BandedKktSolver::SolveInterleavedInPlace() {
   const int N = num_steps_;
   // Forward, G y = b in elimination order, stored as z_r = Σ y_r with y_r = F_r⁻¹ (b_r −
@@ -528,17 +554,17 @@ void BandedKktSolver::SolveInterleavedInPlace() {
   // N − 2, N − 1): forward, the halves are independent and the separator comes last; backward,
   // the separator comes first. Every step does the same arithmetic in either schedule.
   if (split_ >= N) {
-    ForwardSweep(0, N);
-    BackwardSweep(0, N, work_m_[0].data());
+    ForwardSweep<M>(0, N);
+    BackwardSweep<M>(0, N, work_m_[0].data());
     return;
   }
   const int k = split_;
   ParallelFor(0, 2, std::min(num_threads_, 2),
-              [this, k, N](int i, int) { ForwardSweep(i == 0 ? 0 : k, i == 0 ? k : N - 2); });
-  ForwardSweep(N - 2, N);
-  BackwardSweep(N - 2, N, work_m_[0].data());
+              [this, k, N](int i, int) { ForwardSweep<M>(i == 0 ? 0 : k, i == 0 ? k : N - 2); });
+  ForwardSweep<M>(N - 2, N);
+  BackwardSweep<M>(N - 2, N, work_m_[0].data());
   ParallelFor(0, 2, std::min(num_threads_, 2), [this, k, N](int i, int) {
-    BackwardSweep(i == 0 ? 0 : k, i == 0 ? k : N - 2, work_m_[i].data());
+    BackwardSweep<M>(i == 0 ? 0 : k, i == 0 ? k : N - 2, work_m_[i].data());
   });
 }
 
@@ -548,7 +574,7 @@ void BandedKktSolver::SolveOnce(const Eigen::VectorXd& g, const Eigen::VectorXd&
     z_.segment(r * m_, n_) = -g.segment(r * n_, n_);
     z_.segment(r * m_ + n_, nu_) = -h.segment(r * nu_, nu_);
   }
-  SolveInterleavedInPlace();
+  WithKktBlockSize(m_, [this](auto size) { SolveInterleavedInPlace<decltype(size)::value>(); });
   for (int r = 0; r < num_steps_; ++r) {
     p->segment(r * n_, n_) = z_.segment(r * m_, n_);
     lambda->segment(r * nu_, nu_) = z_.segment(r * m_ + n_, nu_);

@@ -122,8 +122,32 @@ std::pair<double, double> BandedErrors(const KktProblem& P, int refinement_steps
 
 // {20, 9, 3} and the last four are factored in two halves (block size n + nu >= 8, N >= 8).
 const std::vector<std::tuple<int, int, int>> kSizes = {
-    {1, 3, 1},  {2, 3, 2},  {3, 4, 2},  {1, 4, 0},  {2, 4, 0},  {3, 4, 0},   {3, 3, 3},  {10, 4, 2},
-    {20, 9, 3}, {7, 23, 6}, {40, 2, 1}, {8, 13, 3}, {9, 12, 4}, {15, 14, 2}, {12, 23, 6}};
+    {1, 3, 1},
+    {2, 3, 2},
+    {3, 4, 2},
+    {1, 4, 0},
+    {2, 4, 0},
+    {3, 4, 0},
+    {3, 3, 3},
+    {10, 4, 2},
+    {20, 9, 3},
+    {7, 23, 6},
+    {40, 2, 1},
+    {8, 13, 3},
+    {9, 12, 4},
+    {15, 14, 2},
+    {12, 23, 6},
+    // Every block size m = n + nu compiled for its size (1..8, src/solver/banded_kkt.cpp), the
+    // sizes of 8 in two halves, and the first run-time size after them (9).
+    {5, 1, 0},
+    {6, 1, 1},
+    {7, 2, 1},
+    {12, 3, 1},
+    {9, 3, 2},
+    {10, 6, 1},
+    {10, 5, 3},
+    {11, 7, 1},
+    {9, 6, 3}};
 
 TEST(BlockConstraintJacobian, ProductsAgreeWithDense) {
   test::Random rng(1);

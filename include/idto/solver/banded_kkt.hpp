@@ -228,28 +228,41 @@ class BandedKktSolver {
     KktStatus status;
     bool weak_pivot{false};  // backward half: a constraint pivot failed BackwardPivotsWellScaled
   };
+  // The member templates below take the block size m = n + nu as M (M > 0: m at compile time,
+  // for blocks up to 8 rows; M = 0: m_ at run time); the .cpp dispatches once per Factor and per
+  // sweep pair.
+  // The factorization in the order of split_ (two halves when split_ < N, else forward).
+  template <int M>
+  KktStatus FactorInOrder();
   // Pivot block r: D_r = [P Qᵀ; Q R] (n + nu) = F_r Σ F_rᵀ with F_r = [Lp 0; Y Ls] lower
   // triangular, Σ = diag(I_n, −I_nu): P = Lp Lpᵀ, Y = Q Lp⁻ᵀ, Y Yᵀ − R = Ls Lsᵀ. In place in
   // F_[r], which holds D_r's lower triangle on entry; scales (m) as in Half. On failure, sets
   // *status and returns false.
+  template <int M>
   bool FactorPivot(int r, double* scales, KktStatus* status);
   // Adds the p-part's squared column norms of Vt's constraint columns to the rank test's scales
   // (the last nu entries of scales).
+  template <int M>
   void AddConstraintScale(const Eigen::MatrixXd& Vt, double* scales) const;
   // The block K(c, r) (m × m) for a neighbour c of r (|c − r| = 1 or 2): K(r, c)ᵀ.
+  template <int M>
   void AssembleCoupling(int r, int c, Eigen::MatrixXd* Kt) const;
   // The elimination of step r against its second-previous step c2 (< 0: none) in the half's
   // order: *D = K(r, r)'s lower triangle (zero when !diagonal), the constraint scales zeroed;
   // *Vt2 = F_c2⁻¹ K(c2, r); *D −= Vt2ᵀ Σ Vt2. scales (m): step r's, as in Half.
+  template <int M>
   void EliminateSecond(int r, int c2, bool diagonal, Eigen::MatrixXd* D, Eigen::MatrixXd* Vt2,
                        double* scales, Half* half) const;
   // Then against its previous step c1 (< 0: none): *Vt1 = F_c1⁻¹ (K(c1, r) − T1 Σ Vt2) with T1
   // = V(c1, c2) (Vt2 == nullptr: no c2); *D −= Vt1ᵀ Σ Vt1; T1 = Vt1ᵀ.
+  template <int M>
   void EliminateFirst(int r, int c1, const Eigen::MatrixXd* Vt2, Eigen::MatrixXd* D,
                       Eigen::MatrixXd* Vt1, double* scales, Half* half) const;
   // Steps [0, split_) forward and their part of the separator steps split_, split_ + 1.
+  template <int M>
   void FactorForwardHalf();
   // Steps [split_ + 2, N) backward (from N − 1) and their part of the separator.
+  template <int M>
   void FactorBackwardHalf();
   // In the backward order step r's constraint pivots see only ∂h_r/∂q_{r+1}. True when every
   // pivot d_u (the squared diagonal of Ls) is at least kBackwardPivotRatio times row u's squared
@@ -257,6 +270,7 @@ class BandedKktSolver {
   // test (its scale is as small) but brings growth of order 1 / d_u (docs/solver.md).
   bool BackwardPivotsWellScaled(int r) const;
   // The separator's two pivots, from both halves' parts.
+  template <int M>
   bool FactorSeparator();
   // V(r, c)ᵀ for a step c eliminated before its neighbour r.
   const Eigen::MatrixXd& Coupling(int r, int c) const;
@@ -265,12 +279,15 @@ class BandedKktSolver {
   int StepAt(int e) const;
   // Solves the interleaved system in place in z_ (N (n + nu)); in the two-half order each
   // sweep's halves run on one thread each.
+  template <int M>
   void SolveInterleavedInPlace();
   // The steps before and after r (at most 4) into c, in the order their terms are added.
   int Neighbours(int r, int* c) const;
   // The forward substitution of the steps at elimination positions [e_begin, e_end), in order;
   // the backward one in reverse order, w (m) its scratch.
+  template <int M>
   void ForwardSweep(int e_begin, int e_end);
+  template <int M>
   void BackwardSweep(int e_begin, int e_end, double* w);
   void SolveOnce(const Eigen::VectorXd& g, const Eigen::VectorXd& h, Eigen::VectorXd* p,
                  Eigen::VectorXd* lambda);
