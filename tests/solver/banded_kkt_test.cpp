@@ -270,23 +270,27 @@ TEST(BandedKkt, SatisfiesTheSystemAndTheMeritGradient) {
   EXPECT_EIGEN_NEAR_REL(p, p_merit, 1e-11);
 }
 
+// Blocks of 4 + 2 (compiled for m = 6) and 9 + 2 (m at run time), in the forward order (N = 6).
 TEST(BandedKkt, ZeroConstraintRowIsRankDeficiencyAtItsStep) {
-  test::Random rng(5);
-  KktProblem P = RandomProblem(6, 4, 2, 10.0, 1.0, &rng);
-  // Row 1 of h_3 influenced by no configuration (an unactuated DoF with no inertia coupling).
-  for (int s = 2; s <= 4; ++s) P.A.Block(3, s).row(1).setZero();
-  BandedKktSolver kkt(6, 4, 2);
-  const KktStatus status = kkt.Factor(P.H, P.A);
-  EXPECT_EQ(status.code, KktStatus::Code::kConstraintsRankDeficient);
-  EXPECT_EQ(status.step, 3);
-  EXPECT_EQ(status.row, 1);
-  EXPECT_NE(status.Message().find("step j = 3"), std::string::npos) << status.Message();
-  EXPECT_NE(status.Message().find("row 1 of h_3"), std::string::npos) << status.Message();
-  Eigen::VectorXd p, lambda;
-  kkt.Solve(P.g, P.h, &p, &lambda);
-  EXPECT_TRUE(p.allFinite());
-  EXPECT_TRUE(lambda.allFinite());
-  EXPECT_EQ(p.norm(), 0.0);
+  for (int n : {4, 9}) {
+    SCOPED_TRACE(::testing::Message() << "n " << n);
+    test::Random rng(5);
+    KktProblem P = RandomProblem(6, n, 2, 10.0, 1.0, &rng);
+    // Row 1 of h_3 influenced by no configuration (an unactuated DoF with no inertia coupling).
+    for (int s = 2; s <= 4; ++s) P.A.Block(3, s).row(1).setZero();
+    BandedKktSolver kkt(6, n, 2);
+    const KktStatus status = kkt.Factor(P.H, P.A);
+    EXPECT_EQ(status.code, KktStatus::Code::kConstraintsRankDeficient);
+    EXPECT_EQ(status.step, 3);
+    EXPECT_EQ(status.row, 1);
+    EXPECT_NE(status.Message().find("step j = 3"), std::string::npos) << status.Message();
+    EXPECT_NE(status.Message().find("row 1 of h_3"), std::string::npos) << status.Message();
+    Eigen::VectorXd p, lambda;
+    kkt.Solve(P.g, P.h, &p, &lambda);
+    EXPECT_TRUE(p.allFinite());
+    EXPECT_TRUE(lambda.allFinite());
+    EXPECT_EQ(p.norm(), 0.0);
+  }
 }
 
 TEST(BandedKkt, DependentRowsAcrossStepsAreFoundAtTheLaterStep) {
@@ -310,23 +314,27 @@ TEST(BandedKkt, DependentRowsAcrossStepsAreFoundAtTheLaterStep) {
   EXPECT_LT(eig.minCoeff(), 1e-13 * eig.maxCoeff());
 }
 
+// Blocks of 3 + 1 (compiled for m = 4, the spinner's) and 10 + 1 (m at run time).
 TEST(BandedKkt, IndefiniteOrNanHessianIsAStatusNeverNan) {
-  test::Random rng(7);
-  KktProblem P = RandomProblem(5, 3, 1, 10.0, 1.0, &rng);
-  P.H.C(2)(1, 1) = -50.0;
-  BandedKktSolver kkt(5, 3, 1);
-  KktStatus status = kkt.Factor(P.H, P.A);
-  EXPECT_EQ(status.code, KktStatus::Code::kHessianNotPositiveDefinite);
-  EXPECT_EQ(status.step, 2);
-  EXPECT_NE(status.Message().find("q_3"), std::string::npos) << status.Message();
-  P = RandomProblem(5, 3, 1, 10.0, 1.0, &rng);
-  P.H.B(3)(0, 0) = std::nan("");
-  status = kkt.Factor(P.H, P.A);
-  EXPECT_FALSE(status.ok());
-  EXPECT_EQ(status.step, 3);
-  Eigen::VectorXd p, lambda;
-  kkt.Solve(P.g, P.h, &p, &lambda);
-  EXPECT_TRUE(p.allFinite() && lambda.allFinite());
+  for (int n : {3, 10}) {
+    SCOPED_TRACE(::testing::Message() << "n " << n);
+    test::Random rng(7);
+    KktProblem P = RandomProblem(5, n, 1, 10.0, 1.0, &rng);
+    P.H.C(2)(1, 1) = -50.0;
+    BandedKktSolver kkt(5, n, 1);
+    KktStatus status = kkt.Factor(P.H, P.A);
+    EXPECT_EQ(status.code, KktStatus::Code::kHessianNotPositiveDefinite);
+    EXPECT_EQ(status.step, 2);
+    EXPECT_NE(status.Message().find("q_3"), std::string::npos) << status.Message();
+    P = RandomProblem(5, n, 1, 10.0, 1.0, &rng);
+    P.H.B(3)(0, 0) = std::nan("");
+    status = kkt.Factor(P.H, P.A);
+    EXPECT_FALSE(status.ok());
+    EXPECT_EQ(status.step, 3);
+    Eigen::VectorXd p, lambda;
+    kkt.Solve(P.g, P.h, &p, &lambda);
+    EXPECT_TRUE(p.allFinite() && lambda.allFinite());
+  }
 }
 
 TEST(BandedKkt, WrongSizesThrow) {
@@ -376,44 +384,54 @@ TEST(BandedKkt, TwoHalvesAreBitwiseEqualOnOneAndTwoThreads) {
   for (test::KernelPath path : test::AvailableKernelPaths()) {
     const test::ScopedKernelPath scoped(path);
     SCOPED_TRACE(test::KernelPathName(path));
-    test::Random rng(11);
-    const KktProblem P = RandomProblem(10, 13, 3, 1e4, 10.0, &rng);
-    BandedKktSolver one(10, 13, 3), two(10, 13, 3);
-    two.set_num_threads(2);
-    ASSERT_TRUE(one.Factor(P.H, P.A).ok());
-    Eigen::VectorXd p1, l1, p2, l2;
-    one.Solve(P.g, P.h, &p1, &l1);
-    for (int i = 0; i < 50; ++i) {
-      ASSERT_TRUE(two.Factor(P.H, P.A).ok());
-      two.Solve(P.g, P.h, &p2, &l2);
-      ASSERT_EQ(0, std::memcmp(p1.data(), p2.data(), sizeof(double) * p1.size())) << "call " << i;
-      ASSERT_EQ(0, std::memcmp(l1.data(), l2.data(), sizeof(double) * l1.size())) << "call " << i;
+    // Blocks of 13 + 3 (m at run time) and 5 + 3 (compiled for m = 8).
+    for (auto [n, nu] : {std::pair{13, 3}, std::pair{5, 3}}) {
+      SCOPED_TRACE(::testing::Message() << "n " << n);
+      test::Random rng(11);
+      const KktProblem P = RandomProblem(10, n, nu, 1e4, 10.0, &rng);
+      BandedKktSolver one(10, n, nu), two(10, n, nu);
+      two.set_num_threads(2);
+      ASSERT_TRUE(one.Factor(P.H, P.A).ok());
+      ASSERT_TRUE(one.factored_in_two_halves());
+      Eigen::VectorXd p1, l1, p2, l2;
+      one.Solve(P.g, P.h, &p1, &l1);
+      for (int i = 0; i < 50; ++i) {
+        ASSERT_TRUE(two.Factor(P.H, P.A).ok());
+        two.Solve(P.g, P.h, &p2, &l2);
+        ASSERT_EQ(0, std::memcmp(p1.data(), p2.data(), sizeof(double) * p1.size())) << "call " << i;
+        ASSERT_EQ(0, std::memcmp(l1.data(), l2.data(), sizeof(double) * l1.size())) << "call " << i;
+      }
+      EXPECT_THROW(two.set_num_threads(0), std::invalid_argument);
     }
-    EXPECT_THROW(two.set_num_threads(0), std::invalid_argument);
   }
 }
 
 // A constraint row that no configuration influences, in each part of a two-half factorization:
 // the forward half (step 1), the separator (steps 4 and 5), the backward half (step 8). The
 // status names the step and row, on 1 and 2 threads.
+// Blocks of 13 + 3 (sizes at run time) and 5 + 3 (compiled for m = 8, the smallest two-half
+// block).
 TEST(BandedKkt, ZeroConstraintRowIsFoundAtItsStepInEveryPartOfTheTwoHalves) {
-  for (int step : {1, 4, 5, 8}) {
-    for (int threads : {1, 2}) {
-      SCOPED_TRACE(::testing::Message() << "step " << step << ", threads " << threads);
-      test::Random rng(12);
-      KktProblem P = RandomProblem(10, 13, 3, 10.0, 1.0, &rng);
-      for (int s = step - 1; s <= step + 1; ++s) {
-        if (P.A.HasBlock(step, s)) P.A.Block(step, s).row(2).setZero();
+  for (auto [n, nu] : {std::pair{13, 3}, std::pair{5, 3}}) {
+    for (int step : {1, 4, 5, 8}) {
+      for (int threads : {1, 2}) {
+        SCOPED_TRACE(::testing::Message()
+                     << "n " << n << ", step " << step << ", threads " << threads);
+        test::Random rng(12);
+        KktProblem P = RandomProblem(10, n, nu, 10.0, 1.0, &rng);
+        for (int s = step - 1; s <= step + 1; ++s) {
+          if (P.A.HasBlock(step, s)) P.A.Block(step, s).row(2).setZero();
+        }
+        BandedKktSolver kkt(10, n, nu);
+        kkt.set_num_threads(threads);
+        const KktStatus status = kkt.Factor(P.H, P.A);
+        EXPECT_EQ(status.code, KktStatus::Code::kConstraintsRankDeficient) << status.Message();
+        EXPECT_EQ(status.step, step);
+        EXPECT_EQ(status.row, 2);
+        Eigen::VectorXd p, lambda;
+        kkt.Solve(P.g, P.h, &p, &lambda);
+        EXPECT_TRUE(p.allFinite() && lambda.allFinite());
       }
-      BandedKktSolver kkt(10, 13, 3);
-      kkt.set_num_threads(threads);
-      const KktStatus status = kkt.Factor(P.H, P.A);
-      EXPECT_EQ(status.code, KktStatus::Code::kConstraintsRankDeficient) << status.Message();
-      EXPECT_EQ(status.step, step);
-      EXPECT_EQ(status.row, 2);
-      Eigen::VectorXd p, lambda;
-      kkt.Solve(P.g, P.h, &p, &lambda);
-      EXPECT_TRUE(p.allFinite() && lambda.allFinite());
     }
   }
 }
