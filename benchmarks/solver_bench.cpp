@@ -17,14 +17,16 @@
 // "solver/<problem>/<penalty|lagrange>/threads:<T>/N:<N>".
 //
 // The KKT step alone (issue 17) on random problems of the sizes of the examples, over the same
-// horizons: "solver/kkt/<size>/<route>/N:<N>", size acrobot (n = 4, nu = 2), hopper (n = 5,
-// nu = 3), ball_finger (n = 9, nu = 3) or allegro (n = 23, nu = 6); route
+// horizons: "solver/kkt/<size>/<route>/N:<N>", size spinner (n = 3, nu = 1), acrobot (n = 4,
+// nu = 2), hopper (n = 5, nu = 3), ball_finger (n = 9, nu = 3) or allegro (n = 23, nu = 6); route
 //   banded:   BandedKktSolver::Factor + Solve (λ and the Newton step p) + g_merit = g + Aᵀλ,
 //             with one step of iterative refinement, its residual in double (banded_unrefined:
 //             none; banded_extended: two steps with the residual in double-double;
 //             banded_adaptive_taken: the step in double, then double-double steps as the
 //             default takes them when the first correction exceeds extended_threshold(), here
 //             with threshold 0, i.e. the maximum of kMaxExtendedSteps = 5;
+//             banded_runtime_sizes: as banded, every block size through the run-time kernels,
+//             set_compiled_block_sizes(false), the peer of the code compiled for m <= 8;
 //             banded_2threads: as banded, with BandedKktSolver::set_num_threads(2));
 //   dense:    today's route: block Cholesky of H, Y = L⁻¹Aᵀ, A H⁻¹ Aᵀ = YᵀY dense and its LLT,
 //             λ, g_merit and p = −H⁻¹ g_merit (Aᵀ filled densely as CalcConstraints does);
@@ -217,7 +219,7 @@ KktProblem RandomKktProblem(int N, int n, int nu) {
 // extended: 0 the residual in double (the threshold infinite), 1 always in double-double (two
 // steps), 2 a step in double then one in double-double (the default's adaptive step, taken).
 void BM_KktBanded(benchmark::State& state, int n, int nu, int refinement_steps, int extended = 0,
-                  int threads = 1) {
+                  int threads = 1, bool compiled_sizes = true) {
   const int N = static_cast<int>(state.range(0));
   const KktProblem P = RandomKktProblem(N, n, nu);
   idto::BandedKktSolver kkt(N, n, nu);
@@ -225,6 +227,7 @@ void BM_KktBanded(benchmark::State& state, int n, int nu, int refinement_steps, 
   kkt.set_extended_residual(extended == 1);
   kkt.set_extended_threshold(extended == 2 ? 0.0 : std::numeric_limits<double>::infinity());
   kkt.set_num_threads(threads);
+  kkt.set_compiled_block_sizes(compiled_sizes);
   Eigen::VectorXd p(N * n), lambda(N * nu), g_merit(N * n);
   for (auto _ : state) {
     if (!kkt.Factor(P.H, P.A).ok()) {
@@ -310,8 +313,8 @@ void RegisterKkt() {
     const char* name;
     int n, nu;
   };
-  for (const Size size : {Size{"acrobot", 4, 2}, Size{"hopper", 5, 3}, Size{"ball_finger", 9, 3},
-                          Size{"allegro", 23, 6}}) {
+  for (const Size size : {Size{"spinner", 3, 1}, Size{"acrobot", 4, 2}, Size{"hopper", 5, 3},
+                          Size{"ball_finger", 9, 3}, Size{"allegro", 23, 6}}) {
     const std::string prefix = std::string("solver/kkt/") + size.name + "/";
     const int n = size.n;
     const int nu = size.nu;
@@ -326,6 +329,9 @@ void RegisterKkt() {
     auto* adaptive = benchmark::RegisterBenchmark(
         (prefix + "banded_adaptive_taken").c_str(),
         [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, 2); });
+    auto* runtime_sizes = benchmark::RegisterBenchmark(
+        (prefix + "banded_runtime_sizes").c_str(),
+        [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, 0, 1, false); });
     auto* two_threads = benchmark::RegisterBenchmark(
         (prefix + "banded_2threads").c_str(),
         [n, nu](benchmark::State& s) { BM_KktBanded(s, n, nu, 1, 0, 2); });
@@ -339,8 +345,8 @@ void RegisterKkt() {
     auto* split2 =
         benchmark::RegisterBenchmark((prefix + "cholesky_split_2threads").c_str(),
                                      [n](benchmark::State& s) { BM_KktCholeskySplit(s, n, 2); });
-    for (auto* b :
-         {banded, unrefined, extended, adaptive, two_threads, dense, chol, split, split2}) {
+    for (auto* b : {banded, unrefined, extended, adaptive, runtime_sizes, two_threads, dense, chol,
+                    split, split2}) {
       b->ArgNames({"N"})->Unit(benchmark::kMicrosecond)->UseRealTime();
       for (int N : {10, 20, 40, 80, 160, 320}) {
         if (b == dense && n * N > 23 * 160) continue;

@@ -406,9 +406,35 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
             ", " + std::to_string(A.num_constraints()),
         std::to_string(num_steps_) + ", " + std::to_string(n_) + ", " + std::to_string(nu_));
   }
+  CheckBlockShapes(H, A);
   H_ = &H;
   A_ = &A;
-  return WithKktBlockSize(m_, [this](auto size) { return FactorInOrder<decltype(size)::value>(); });
+  dispatch_size_ = compiled_block_sizes_ ? m_ : 0;
+  return WithKktBlockSize(dispatch_size_,
+                          [this](auto size) { return FactorInOrder<decltype(size)::value>(); });
+}
+
+void BandedKktSolver::CheckBlockShapes(const PentaDiagonalMatrix& H,
+                                       const BlockConstraintJacobian& A) const {
+  // The blocks are mutable references: one resized by its owner would be read out of bounds.
+  const auto check = [](const Eigen::MatrixXd& block, int rows, int cols, const char* argument,
+                        const std::string& name) {
+    if (block.rows() == rows && block.cols() == cols) return;
+    ThrowInvalidArgument(
+        "BandedKktSolver::Factor", argument,
+        name + " of " + std::to_string(block.rows()) + " x " + std::to_string(block.cols()),
+        std::to_string(rows) + " x " + std::to_string(cols));
+  };
+  for (int r = 0; r < num_steps_; ++r) {
+    check(H.C(r), n_, n_, "H", "block C(" + std::to_string(r) + ")");
+    if (r >= 1) check(H.B(r), n_, n_, "H", "block B(" + std::to_string(r) + ")");
+    if (r >= 2) check(H.A(r), n_, n_, "H", "block A(" + std::to_string(r) + ")");
+    for (int s = r - 1; s <= r + 1; ++s) {
+      if (!A.HasBlock(r, s)) continue;
+      check(A.Block(r, s), nu_, n_, "A",
+            "block (" + std::to_string(r) + ", " + std::to_string(s) + ")");
+    }
+  }
 }
 
 template <int M>
@@ -574,7 +600,8 @@ void BandedKktSolver::SolveOnce(const Eigen::VectorXd& g, const Eigen::VectorXd&
     z_.segment(r * m_, n_) = -g.segment(r * n_, n_);
     z_.segment(r * m_ + n_, nu_) = -h.segment(r * nu_, nu_);
   }
-  WithKktBlockSize(m_, [this](auto size) { SolveInterleavedInPlace<decltype(size)::value>(); });
+  WithKktBlockSize(dispatch_size_,
+                   [this](auto size) { SolveInterleavedInPlace<decltype(size)::value>(); });
   for (int r = 0; r < num_steps_; ++r) {
     p->segment(r * n_, n_) = z_.segment(r * m_, n_);
     lambda->segment(r * nu_, nu_) = z_.segment(r * m_ + n_, nu_);

@@ -138,7 +138,8 @@ const std::vector<std::tuple<int, int, int>> kSizes = {
     {15, 14, 2},
     {12, 23, 6},
     // Every block size m = n + nu compiled for its size (1..8, src/solver/banded_kkt.cpp), the
-    // sizes of 8 in two halves, and the first run-time size after them (9).
+    // size 8 in two halves and in the forward order (N < 8), and run-time sizes after them (9,
+    // and 12 in the forward order).
     {5, 1, 0},
     {6, 1, 1},
     {7, 2, 1},
@@ -147,7 +148,9 @@ const std::vector<std::tuple<int, int, int>> kSizes = {
     {10, 6, 1},
     {10, 5, 3},
     {11, 7, 1},
-    {9, 6, 3}};
+    {9, 6, 3},
+    {6, 5, 3},
+    {7, 10, 2}};
 
 TEST(BlockConstraintJacobian, ProductsAgreeWithDense) {
   test::Random rng(1);
@@ -347,6 +350,62 @@ TEST(BandedKkt, WrongSizesThrow) {
   Eigen::VectorXd p, lambda;
   EXPECT_THROW(ok.Solve(P.g, Eigen::VectorXd::Zero(3), &p, &lambda), std::invalid_argument);
   EXPECT_THROW(BandedKktSolver(-1, 3, 1), std::invalid_argument);
+  // A block resized by its owner (the accessors return mutable references): named, never read.
+  KktProblem Q = P;
+  Q.A.Block(2, 3).resize(1, 2);
+  try {
+    ok.Factor(Q.H, Q.A);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("block (2, 3) of 1 x 2"), std::string::npos) << e.what();
+  }
+  Q = P;
+  Q.H.B(1).resize(3, 2);
+  try {
+    ok.Factor(Q.H, Q.A);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("block B(1) of 3 x 2"), std::string::npos) << e.what();
+  }
+}
+
+// The code compiled for block sizes 1..8 against the run-time kernels on the same systems: the
+// same bits for p and λ and the same status, in the forward order (N = 6) and in two halves
+// (N = 12, from m = 8), on 1 and 2 threads; also for a rank-deficient system.
+TEST(BandedKkt, CompiledBlockSizesAreBitwiseTheRunTimeKernels) {
+  const std::vector<std::pair<int, int>> shapes = {{1, 0}, {1, 1}, {2, 1}, {3, 1}, {3, 2},
+                                                   {4, 2}, {6, 1}, {5, 3}, {7, 1}, {13, 3}};
+  for (auto [n, nu] : shapes) {
+    for (int N : {6, 12}) {
+      for (bool deficient : {false, true}) {
+        if (deficient && nu == 0) continue;
+        SCOPED_TRACE(::testing::Message() << "n " << n << ", nu " << nu << ", N " << N
+                                          << (deficient ? ", rank-deficient" : ""));
+        test::Random rng(21);
+        KktProblem P = RandomProblem(N, n, nu, 1e3, 10.0, &rng);
+        if (deficient) {
+          for (int s = 2; s <= 4; ++s) P.A.Block(3, s).row(0).setZero();
+        }
+        Eigen::VectorXd p[2], lambda[2];
+        KktStatus status[2];
+        for (int compiled : {0, 1}) {
+          BandedKktSolver kkt(N, n, nu);
+          kkt.set_compiled_block_sizes(compiled == 1);
+          kkt.set_num_threads(1 + compiled);
+          status[compiled] = kkt.Factor(P.H, P.A);
+          kkt.Solve(P.g, P.h, &p[compiled], &lambda[compiled]);
+        }
+        EXPECT_EQ(status[0].ok(), !deficient);
+        EXPECT_EQ(status[0].code, status[1].code);
+        EXPECT_EQ(status[0].step, status[1].step);
+        EXPECT_EQ(status[0].row, status[1].row);
+        ASSERT_EQ(p[0].size(), p[1].size());
+        EXPECT_EQ(0, std::memcmp(p[0].data(), p[1].data(), sizeof(double) * p[0].size()));
+        EXPECT_EQ(
+            0, std::memcmp(lambda[0].data(), lambda[1].data(), sizeof(double) * lambda[0].size()));
+      }
+    }
+  }
 }
 
 TEST(BandedKkt, NoAllocationAfterConstruction) {

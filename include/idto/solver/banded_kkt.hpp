@@ -195,8 +195,16 @@ class BandedKktSolver {
   /// Throws InvalidArgument unless 1 <= threads <= 256.
   void set_num_threads(int threads);
 
+  /// Whether Factor and Solve run the code compiled for the block size m = n + nu (blocks of up
+  /// to 8 rows; larger ones always take kernels with m at run time). Default true; false runs
+  /// every size through the run-time kernels, with bit for bit the same results and status (a
+  /// peer for benchmarks and tests). Takes effect at the next Factor.
+  bool compiled_block_sizes() const { return compiled_block_sizes_; }
+  void set_compiled_block_sizes(bool compiled) { compiled_block_sizes_ = compiled; }
+
   /// Factors [H Aᵀ; A 0]. H: N blocks of n × n, positive definite; A: N × N blocks of nu × n.
-  /// Throws InvalidArgument on sizes that differ from the solver's. Returns the status: success,
+  /// Throws InvalidArgument on sizes that differ from the solver's, H's or A's own or any of
+  /// their blocks'. Returns the status: success,
   /// or the failing step and block and why; the factors are then unusable (never NaN results:
   /// Solve on a failed factorization sets p and λ to zero). When the two-half order fails, the
   /// system is factored again in the forward order, whose status is returned.
@@ -231,6 +239,9 @@ class BandedKktSolver {
   // The member templates below take the block size m = n + nu as M (M > 0: m at compile time,
   // for blocks up to 8 rows; M = 0: m_ at run time); the .cpp dispatches once per Factor and per
   // sweep pair.
+  // Throws InvalidArgument when a block of H or A that Factor reads is not n x n (H) or nu x n
+  // (A), naming it.
+  void CheckBlockShapes(const PentaDiagonalMatrix& H, const BlockConstraintJacobian& A) const;
   // The factorization in the order of split_ (two halves when split_ < N, else forward).
   template <int M>
   KktStatus FactorInOrder();
@@ -315,6 +326,10 @@ class BandedKktSolver {
   // or short horizons), or N when the two halves failed.
   int split_{0};
   int two_half_split_{0};
+  bool compiled_block_sizes_{true};
+  // The block size the last Factor dispatched on (m_, or 0: the run-time kernels), which the
+  // solves use too.
+  int dispatch_size_{0};
   bool extended_residual_{false};
   double extended_threshold_{1e-11};
   bool last_solve_extended_{false};
