@@ -416,23 +416,30 @@ KktStatus BandedKktSolver::Factor(const PentaDiagonalMatrix& H, const BlockConst
 
 void BandedKktSolver::CheckBlockShapes(const PentaDiagonalMatrix& H,
                                        const BlockConstraintJacobian& A) const {
-  // The blocks are mutable references: one resized by its owner would be read out of bounds.
-  const auto check = [](const Eigen::MatrixXd& block, int rows, int cols, const char* argument,
-                        const std::string& name) {
-    if (block.rows() == rows && block.cols() == cols) return;
+  // The blocks are mutable references: one resized by its owner would be read out of bounds. The
+  // message is built only on failure (no formatting per block on the hot path).
+  const auto fits = [](const Eigen::MatrixXd& block, int rows, int cols) {
+    return block.rows() == rows && block.cols() == cols;
+  };
+  const auto fail = [](const Eigen::MatrixXd& block, int rows, int cols, const char* argument,
+                       const std::string& name) {
     ThrowInvalidArgument(
         "BandedKktSolver::Factor", argument,
         name + " of " + std::to_string(block.rows()) + " x " + std::to_string(block.cols()),
         std::to_string(rows) + " x " + std::to_string(cols));
   };
   for (int r = 0; r < num_steps_; ++r) {
-    check(H.C(r), n_, n_, "H", "block C(" + std::to_string(r) + ")");
-    if (r >= 1) check(H.B(r), n_, n_, "H", "block B(" + std::to_string(r) + ")");
-    if (r >= 2) check(H.A(r), n_, n_, "H", "block A(" + std::to_string(r) + ")");
+    if (!fits(H.C(r), n_, n_)) fail(H.C(r), n_, n_, "H", "block C(" + std::to_string(r) + ")");
+    if (r >= 1 && !fits(H.B(r), n_, n_)) {
+      fail(H.B(r), n_, n_, "H", "block B(" + std::to_string(r) + ")");
+    }
+    if (r >= 2 && !fits(H.A(r), n_, n_)) {
+      fail(H.A(r), n_, n_, "H", "block A(" + std::to_string(r) + ")");
+    }
     for (int s = r - 1; s <= r + 1; ++s) {
-      if (!A.HasBlock(r, s)) continue;
-      check(A.Block(r, s), nu_, n_, "A",
-            "block (" + std::to_string(r) + ", " + std::to_string(s) + ")");
+      if (!A.HasBlock(r, s) || fits(A.Block(r, s), nu_, n_)) continue;
+      fail(A.Block(r, s), nu_, n_, "A",
+           "block (" + std::to_string(r) + ", " + std::to_string(s) + ")");
     }
   }
 }

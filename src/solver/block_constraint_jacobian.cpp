@@ -28,25 +28,11 @@ void BlockConstraintJacobian::Resize(int num_steps, int num_positions, int num_c
                  Eigen::MatrixXd::Zero(num_constraints, num_positions));
 }
 
-namespace {
-
-[[noreturn]] void ThrowNoBlock(int j, int s, int N) {
+void BlockConstraintJacobian::ThrowNoBlock(int j, int s) const {
   ThrowInvalidArgument(
       "BlockConstraintJacobian::Block", "(j, s)",
       "(" + std::to_string(j) + ", " + std::to_string(s) + ")",
-      "0 <= j < N = " + std::to_string(N) + " and s in {j-1, j, j+1} within [1, N]");
-}
-
-}  // namespace
-
-Eigen::MatrixXd& BlockConstraintJacobian::Block(int j, int s) {
-  if (!HasBlock(j, s)) ThrowNoBlock(j, s, num_steps_);
-  return blocks_[Index(j, s)];
-}
-
-const Eigen::MatrixXd& BlockConstraintJacobian::Block(int j, int s) const {
-  if (!HasBlock(j, s)) ThrowNoBlock(j, s, num_steps_);
-  return blocks_[Index(j, s)];
+      "0 <= j < N = " + std::to_string(num_steps_) + " and s in {j-1, j, j+1} within [1, N]");
 }
 
 void BlockConstraintJacobian::SetZero() {

@@ -53,8 +53,14 @@ class BlockConstraintJacobian {
     return j >= 0 && j < num_steps_ && s >= 1 && s <= num_steps_ && s >= j - 1 && s <= j + 1;
   }
   /// J(j, s) = ∂h_j/∂q_s (nu × n). Throws InvalidArgument when !HasBlock(j, s).
-  Eigen::MatrixXd& Block(int j, int s);
-  const Eigen::MatrixXd& Block(int j, int s) const;
+  Eigen::MatrixXd& Block(int j, int s) {
+    if (!HasBlock(j, s)) ThrowNoBlock(j, s);
+    return blocks_[Index(j, s)];
+  }
+  const Eigen::MatrixXd& Block(int j, int s) const {
+    if (!HasBlock(j, s)) ThrowNoBlock(j, s);
+    return blocks_[Index(j, s)];
+  }
 
   void SetZero();
   /// Ap = A p. p: N n; Ap: N nu (resized; no allocation when already sized).
@@ -68,6 +74,7 @@ class BlockConstraintJacobian {
 
  private:
   int Index(int j, int s) const { return 3 * j + (s - j + 1); }
+  [[noreturn]] void ThrowNoBlock(int j, int s) const;
 
   int num_steps_{0};
   int num_positions_{0};
