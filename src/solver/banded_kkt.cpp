@@ -161,12 +161,10 @@ struct KktKernels {
                                               inverse_diagonal, relative);
     }
   }
-  /// T = Xᵀ.
+  /// T = Xᵀ (internal::Transpose, its loops bounded at compile time when M > 0).
   static void Transpose(const double* X, int m, double* T) {
     const int s = M > 0 ? M : m;
-    for (int j = 0; j < s; ++j) {
-      for (int i = 0; i < s; ++i) T[j + i * s] = X[i + j * s];
-    }
+    internal::Transpose(X, s, s, s, T, s);
   }
 };
 
