@@ -1,9 +1,10 @@
 // Rigid-body dynamics kernels, idto against MuJoCo in the same binary (when MuJoCo is found).
 //
 // Models (read from IDTO_SOURCE_DIR/models; a missing or broken file skips its benchmarks with
-// the reason): "arm7" (7 DoF, fixed base), "quadruped" (18 DoF, floating base), "allegro_ball"
-// (the hand, fixed, plus a free ball: 22 DoF; one scene built with AddUrdfFile twice). Each model
-// is evaluated at one random but fixed state (seeded).
+// the reason): "spinner" (3 DoF, fixed base: the smallest example, whose per-step derivative
+// cost bounds its solver iteration), "arm7" (7 DoF, fixed base), "quadruped" (18 DoF, floating
+// base), "allegro_ball" (the hand, fixed, plus a free ball: 22 DoF; one scene built with
+// AddUrdfFile twice). Each model is evaluated at one random but fixed state (seeded).
 //
 // Benchmarks come in pairs "dynamics/<kernel>/<model>/idto" and ".../mujoco"; main.cpp prints
 // the ratio idto/MuJoCo of every pair at the end of the run. Kernels and what each side does
@@ -72,6 +73,7 @@ struct BenchModel {
 
 idto::Model LoadModel(const std::string& name) {
   if (name == "arm7") return idto::ParseUrdfFile(ModelPath("arm7.urdf"));
+  if (name == "spinner") return idto::ParseUrdfFile(ModelPath("spinner.urdf"));
   if (name == "quadruped") {
     idto::UrdfOptions options;
     options.base = idto::BaseType::kFloating;
@@ -415,7 +417,7 @@ bool RegisterDynamicsBenchmarks() {
       {"RNEAderivsFD", IdtoRneaDerivativesFd, nullptr},
 #endif
   };
-  for (const char* model : {"arm7", "quadruped", "allegro_ball"}) {
+  for (const char* model : {"spinner", "arm7", "quadruped", "allegro_ball"}) {
     for (const Kernel& kernel : kernels) {
       const std::string base = std::string("dynamics/") + kernel.name + "/" + model;
       const std::string model_name = model;
