@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "examples/example_test_support.hpp"
 #include "idto/idto.hpp"
 #include "support/contact_oracle.hpp"
 #include "support/random.hpp"
@@ -22,15 +23,12 @@
 namespace idto {
 namespace {
 
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
+using test::kShareDirs;
+using test::LoadExample;
 
 const std::vector<std::string> kExamples = {
     "pendulum",        "acrobot", "spinner",  "hopper",        "quadruped",
     "quadruped_hills", "allegro", "bimanual", "bimanual_lift", "bimanual_balance"};
-
-ExampleConfig Load(const std::string& name) {
-  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
-}
 
 double RelativeError(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, double floor) {
   return (A - B).norm() / std::max(B.norm(), floor);
@@ -40,7 +38,7 @@ TEST(AnalyticDerivatives, EveryExampleMatchesAutoDiff) {
   test::Random rng(3);
   for (const std::string& name : kExamples) {
     SCOPED_TRACE(name);
-    const ExampleConfig config = Load(name);
+    const ExampleConfig config = LoadExample(name);
     const Model& model = config.model;
     const Transcription t(model, config.problem);
     const std::vector<Eigen::VectorXd> guess = MakeInitialGuess(config);
@@ -81,7 +79,7 @@ TEST(AnalyticDerivatives, EveryExampleMatchesAutoDiff) {
 TEST(AnalyticDerivatives, TranscriptionBlocksMatchCentralDifferences) {
   for (const std::string& name : kExamples) {
     SCOPED_TRACE(name);
-    const ExampleConfig config = Load(name);
+    const ExampleConfig config = LoadExample(name);
     Transcription t(config.model, config.problem);
     TrajectoryState s = t.MakeState();
     // The initial guess moved off the branch points of the contact law: interpolated guesses

@@ -25,13 +25,15 @@
 
 #include <Eigen/Core>
 
+#include "examples/example_test_support.hpp"
 #include "idto/idto.hpp"
 #include "support/kernel_paths.hpp"
 
 namespace idto {
 namespace {
 
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
+using test::kShareDirs;
+
 const char* kBaselineDir = IDTO_TEST_DATA_DIR "/baseline";
 
 std::string BaselineFileName(test::KernelPath path) {

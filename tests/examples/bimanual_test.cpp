@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "examples/example_test_support.hpp"
 #include "idto/config/config.hpp"
 #include "idto/contact/contact_engine.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
@@ -23,16 +24,15 @@
 namespace idto {
 namespace {
 
+using test::kShareDirs;
+using test::LoadExample;
+using test::MetricValue;
+
 using examples::EvaluateTask;
 using examples::TaskResult;
 
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
 const std::vector<std::string> kBimanualExamples = {"bimanual", "bimanual_lift",
                                                     "bimanual_balance"};
-
-ExampleConfig LoadExample(const std::string& name) {
-  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
-}
 
 /// A trajectory that stays at q_init and ends at q_final, with zero velocities and efforts.
 Trajectory MakeTrajectory(const ExampleConfig& config, const Eigen::VectorXd& q_final) {
@@ -43,14 +43,6 @@ Trajectory MakeTrajectory(const ExampleConfig& config, const Eigen::VectorXd& q_
   t.v.assign(N + 1, Eigen::VectorXd::Zero(config.model.nv()));
   t.tau.assign(N + 1, Eigen::VectorXd::Zero(config.model.nv()));
   return t;
-}
-
-double MetricValue(const TaskResult& result, const std::string& name) {
-  for (const examples::Metric& m : result.metrics) {
-    if (m.name == name) return m.values.at(0);
-  }
-  ADD_FAILURE() << "no metric " << name;
-  return NAN;
 }
 
 TEST(BimanualScene, ModelGeometryAndContactPairs) {

@@ -21,6 +21,7 @@
 #include "campaign/campaign.hpp"
 #include "campaign/campaign_report.hpp"
 #include "core/parallel.hpp"
+#include "examples/example_test_support.hpp"
 #include "idto/config/config.hpp"
 #include "idto/config/mpc_config.hpp"
 #include "idto/core/errors.hpp"
@@ -31,13 +32,10 @@
 namespace idto {
 namespace {
 
+using test::kShareDirs;
+using test::LoadExample;
+
 using ::testing::HasSubstr;
-
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
-
-ExampleConfig Load(const std::string& name) {
-  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
-}
 
 TEST(Campaign, WilsonIntervalMatchesPublishedValues) {
   // Tables of the Wilson score interval at 95% (e.g. Newcombe 1998, Table I; Brown, Cai and
@@ -60,7 +58,7 @@ TEST(Campaign, WilsonIntervalMatchesPublishedValues) {
 }
 
 TEST(Campaign, ScaledMassesChangeOnlyTheMasses) {
-  const ExampleConfig config = Load("quadruped");
+  const ExampleConfig config = LoadExample("quadruped");
   const Model& model = config.model;
   std::vector<double> scale(model.num_bodies(), 1.0);
   sim::MujocoPlantOptions options;
@@ -80,7 +78,7 @@ TEST(Campaign, ScaledMassesChangeOnlyTheMasses) {
 }
 
 TEST(Campaign, DifferentSeedsDrawDifferentConditions) {
-  const ExampleConfig config = Load("spinner");
+  const ExampleConfig config = LoadExample("spinner");
   const campaign::CampaignSettings settings = campaign::DefaultSettings("spinner");
   const campaign::RunConditions a = campaign::DrawConditions(settings, config, 7);
   const campaign::RunConditions b = campaign::DrawConditions(settings, config, 8);
@@ -112,7 +110,7 @@ std::vector<campaign::RunResult> SpinnerRuns(const ExampleConfig& config,
 
 TEST(Campaign, SpinnerCampaignIsReproducibleAndMerges) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
-  const ExampleConfig config = Load("spinner");
+  const ExampleConfig config = LoadExample("spinner");
   const campaign::CampaignSettings settings = campaign::DefaultSettings("spinner");
   const std::vector<campaign::RunResult> runs = SpinnerRuns(config, settings);
   const std::string json = campaign::CampaignJson(settings, runs);
@@ -160,7 +158,7 @@ TEST(Campaign, SpinnerCampaignIsReproducibleAndMerges) {
 }
 
 TEST(ClosedLoopConditions, MeasuredStateIsNoisyButValid) {
-  const ExampleConfig config = Load("quadruped");
+  const ExampleConfig config = LoadExample("quadruped");
   const Model& model = config.model;
   const Eigen::VectorXd q = config.problem.q_init;
   const Eigen::VectorXd v = Eigen::VectorXd::LinSpaced(model.nv(), -2.0, 2.0);
@@ -186,7 +184,7 @@ TEST(ClosedLoopConditions, MeasuredStateIsNoisyButValid) {
 
 /// The spinner against the built-in plant for 0.3 s with the given closed-loop options.
 mpc::ClosedLoopLog RunSpinner(const mpc::ClosedLoopOptions& cl) {
-  const ExampleConfig config = Load("spinner");
+  const ExampleConfig config = LoadExample("spinner");
   const MpcConfig mpc = ParseMpcConfig(config);
   std::unique_ptr<sim::Plant> plant = sim::MakeBuiltinPlant(config.model, mpc.builtin);
   plant->Reset(config.problem.q_init, config.problem.v_init);
@@ -239,7 +237,7 @@ TEST(ClosedLoopConditions, LatePlansAreDiscardedAndCounted) {
   const mpc::ClosedLoopLog all = RunSpinner(cl);
   EXPECT_EQ(all.num_late_plans, static_cast<int>(all.solve_time.size()));
   // So the initial plan stays in force: the PD target is the initial plan's throughout.
-  const ExampleConfig config = Load("spinner");
+  const ExampleConfig config = LoadExample("spinner");
   mpc::Controller controller(config.model, config.problem, config.solver,
                              ParseMpcConfig(config).controller);
   controller.Initialize(MakeInitialGuess(config), 20);
@@ -272,7 +270,7 @@ TEST(ClosedLoopConditions, LatePlansUsedOnArrivalTakeOverWhenTheyArrive) {
   EXPECT_EQ(late.num_skipped_replans, 9);
   // The plan in force, rebuilt by a second controller from the logged state at 5 ms (no noise:
   // the controller measured exactly that state): the initial plan up to 10 ms, then the re-plan's.
-  const ExampleConfig config = Load("spinner");
+  const ExampleConfig config = LoadExample("spinner");
   mpc::Controller controller(config.model, config.problem, config.solver,
                              ParseMpcConfig(config).controller);
   controller.Initialize(MakeInitialGuess(config), 20);
@@ -358,8 +356,8 @@ ExampleConfig LoadSpinnerWithMpc(const std::string& lines) {
 }
 
 TEST(ClosedLoopConditions, MpcSectionReadsNoiseJitterAndSeed) {
-  EXPECT_FALSE(ParseMpcConfig(Load("spinner")).closed_loop.sensor_noise.enabled());
-  EXPECT_EQ(ParseMpcConfig(Load("spinner")).closed_loop.latency_jitter, 0.0);
+  EXPECT_FALSE(ParseMpcConfig(LoadExample("spinner")).closed_loop.sensor_noise.enabled());
+  EXPECT_EQ(ParseMpcConfig(LoadExample("spinner")).closed_loop.latency_jitter, 0.0);
   const ExampleConfig config = LoadSpinnerWithMpc(
       "  latency_jitter: 0.002\n  seed: 42\n"
       "  sensor_noise: {position: 0.001, velocity_relative: 0.02, velocity_floor: 0.003}\n");
@@ -375,11 +373,11 @@ TEST(ClosedLoopConditions, MpcSectionReadsNoiseJitterAndSeed) {
               ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.sensor_noise.angle")));
   EXPECT_THAT([] { LoadSpinnerWithMpc("  seed: 1.5\n"); },
               ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.seed")));
-  EXPECT_FALSE(ParseMpcConfig(Load("spinner")).closed_loop.real_time);
+  EXPECT_FALSE(ParseMpcConfig(LoadExample("spinner")).closed_loop.real_time);
   EXPECT_TRUE(ParseMpcConfig(LoadSpinnerWithMpc("  real_time: true\n")).closed_loop.real_time);
   EXPECT_THAT([] { LoadSpinnerWithMpc("  real_time: 2\n"); },
               ::testing::ThrowsMessage<FileError>(HasSubstr("mpc.real_time")));
-  EXPECT_FALSE(ParseMpcConfig(Load("spinner")).closed_loop.keep_workers_awake);
+  EXPECT_FALSE(ParseMpcConfig(LoadExample("spinner")).closed_loop.keep_workers_awake);
   EXPECT_TRUE(ParseMpcConfig(LoadSpinnerWithMpc("  keep_workers_awake: true\n"))
                   .closed_loop.keep_workers_awake);
   EXPECT_THAT([] { LoadSpinnerWithMpc("  keep_workers_awake: yes please\n"); },

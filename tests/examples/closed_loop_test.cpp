@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "examples/example_test_support.hpp"
 #include "idto/config/config.hpp"
 #include "idto/config/mpc_config.hpp"
 #include "idto/mpc/closed_loop.hpp"
@@ -23,22 +24,12 @@
 namespace idto {
 namespace {
 
+using test::kShareDirs;
+using test::LoadExample;
+using test::MetricValue;
+
 using examples::EvaluateClosedLoopTask;
 using examples::TaskResult;
-
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
-
-ExampleConfig Load(const std::string& name) {
-  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
-}
-
-double MetricValue(const TaskResult& r, const std::string& name) {
-  for (const examples::Metric& m : r.metrics) {
-    if (m.name == name) return m.values.at(0);
-  }
-  ADD_FAILURE() << "no metric " << name;
-  return NAN;
-}
 
 /// A log of `seconds` at 100 Hz in which q moves linearly from q0 to q1.
 mpc::ClosedLoopLog LinearLog(const Model& model, const Eigen::VectorXd& q0,
@@ -57,7 +48,7 @@ mpc::ClosedLoopLog LinearLog(const Model& model, const Eigen::VectorXd& q0,
 }
 
 TEST(ClosedLoopTask, QuadrupedSpeedTiltAndFailure) {
-  const ExampleConfig config = Load("quadruped");
+  const ExampleConfig config = LoadExample("quadruped");
   const int x = config.model.GetPositionStart("body_root_joint") + 4;
   const Eigen::VectorXd q0 = config.problem.q_init;
   Eigen::VectorXd q1 = q0;
@@ -84,7 +75,7 @@ TEST(ClosedLoopTask, QuadrupedSpeedTiltAndFailure) {
 }
 
 TEST(ClosedLoopTask, HillsMustBeCrossed) {
-  const ExampleConfig config = Load("quadruped_hills");
+  const ExampleConfig config = LoadExample("quadruped_hills");
   const int x = config.model.GetPositionStart("body_root_joint") + 4;
   const Eigen::VectorXd q0 = config.problem.q_init;
   Eigen::VectorXd q1 = q0;
@@ -97,7 +88,7 @@ TEST(ClosedLoopTask, HillsMustBeCrossed) {
 }
 
 TEST(ClosedLoopTask, SpinnerRate) {
-  const ExampleConfig config = Load("spinner");
+  const ExampleConfig config = LoadExample("spinner");
   const int s = config.model.GetPositionStart("spinner_axle");
   Eigen::VectorXd q1 = config.problem.q_init;
   q1(s) += 3.1;
@@ -112,7 +103,7 @@ TEST(ClosedLoopTask, SpinnerRate) {
 // log; held to the end it succeeds, turned 0.5 rad away at 18 s it fails on the hold, and never
 // within 0.2 rad it fails on the reach.
 TEST(ClosedLoopTask, AllegroBallReachedAndHeldForTheLastThreeSeconds) {
-  const ExampleConfig config = Load("allegro");
+  const ExampleConfig config = LoadExample("allegro");
   const int qs = config.model.GetPositionStart("ball_root_joint");
   const Eigen::VectorXd q0 = ControllerProblem(config).q_init;
   auto log_with_angle = [&](auto angle) {
@@ -140,7 +131,7 @@ TEST(ClosedLoopTask, AllegroBallReachedAndHeldForTheLastThreeSeconds) {
 
 /// Runs `name` in closed loop against MuJoCo with a fixed latency (reproducible).
 TaskResult RunAgainstMujoco(const std::string& name, double latency) {
-  const ExampleConfig config = Load(name);
+  const ExampleConfig config = LoadExample(name);
   MpcConfig mpc = ParseMpcConfig(config);
   mpc.closed_loop.latency = mpc::LatencyModel::kFixed;
   mpc.closed_loop.fixed_latency = latency;

@@ -13,13 +13,14 @@
 
 #include <Eigen/Core>
 
+#include "examples/example_test_support.hpp"
 #include "idto/idto.hpp"
 #include "support/cost_gradient_oracle.hpp"
 
 namespace idto {
 namespace {
 
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
+using test::kShareDirs;
 
 struct Errors {
   double analytic{0.0}, forward{0.0};

@@ -24,13 +24,14 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 
+#include "examples/example_test_support.hpp"
 #include "idto/idto.hpp"
 #include "solver/trust_region.hpp"
 
 namespace idto {
 namespace {
 
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
+using test::kShareDirs;
 
 struct Step {
   Eigen::VectorXd p, lambda;

@@ -12,17 +12,15 @@
 
 #include <Eigen/Core>
 
+#include "examples/example_test_support.hpp"
 #include "idto/idto.hpp"
 #include "support/random.hpp"
 
 namespace idto {
 namespace {
 
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
-
-ExampleConfig Load(const std::string& name) {
-  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
-}
+using test::kShareDirs;
+using test::LoadExample;
 
 struct Excess {
   double position{0.0}, velocity{0.0}, effort{0.0};  // effort relative to the limit
@@ -68,7 +66,7 @@ void ExpectWithinLimits(const Excess& e) {
 }
 
 TEST(JointLimits, QuadrupedVariantKeepsTheKneeEffortCap) {
-  const ExampleConfig config = Load("quadruped_limits");
+  const ExampleConfig config = LoadExample("quadruped_limits");
   ASSERT_TRUE(config.problem.limits.any());
   ProblemDefinition without = config.problem;
   without.limits.position_weight = without.limits.velocity_weight = 0.0;
@@ -81,7 +79,7 @@ TEST(JointLimits, QuadrupedVariantKeepsTheKneeEffortCap) {
 }
 
 TEST(JointLimits, AllegroVariantKeepsTheThumbWithinItsRange) {
-  const ExampleConfig config = Load("allegro_limits");
+  const ExampleConfig config = LoadExample("allegro_limits");
   ProblemDefinition without = config.problem;
   without.limits = LimitPenalties{};
   const Excess free = MeasureExcess(config.model, config.problem.limits, Solve(config, without));
@@ -95,7 +93,7 @@ TEST(JointLimits, AllegroVariantKeepsTheThumbWithinItsRange) {
 // directions) and the Hessian is the Gauss-Newton one (symmetric, positive semidefinite rows
 // are checked through the factorization in the solver tests).
 TEST(JointLimits, GradientWithActiveLimitsMatchesTheCost) {
-  const ExampleConfig config = Load("allegro_limits");
+  const ExampleConfig config = LoadExample("allegro_limits");
   ProblemDefinition p = config.problem;
   // Tight bounds so that every kind of limit is active somewhere along the initial guess.
   p.limits.tau_max = Eigen::VectorXd::Constant(config.model.nv(), 0.01);
@@ -131,7 +129,7 @@ TEST(JointLimits, GradientWithActiveLimitsMatchesTheCost) {
 }
 
 TEST(JointLimits, BadLimitsAreRefusedWithTheField) {
-  const ExampleConfig config = Load("quadruped_limits");
+  const ExampleConfig config = LoadExample("quadruped_limits");
   ProblemDefinition p = config.problem;
   p.limits.position_weight = -1.0;
   EXPECT_THROW(

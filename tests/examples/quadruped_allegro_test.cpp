@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "examples/example_test_support.hpp"
 #include "idto/config/config.hpp"
 #include "idto/contact/contact_engine.hpp"
 #include "idto/geometry/signed_distance.hpp"
@@ -26,32 +27,13 @@
 namespace idto {
 namespace {
 
+using test::kShareDirs;
+using test::LoadExample;
+using test::MetricValue;
+using test::RestingTrajectory;
+
 using examples::EvaluateTask;
 using examples::TaskResult;
-
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
-
-ExampleConfig Load(const std::string& name) {
-  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
-}
-
-/// q_init at every step, zero velocities and generalized forces.
-Trajectory RestingTrajectory(const ExampleConfig& config) {
-  const int N = config.problem.num_steps;
-  Trajectory t;
-  t.q.assign(N + 1, config.problem.q_init);
-  t.v.assign(N + 1, Eigen::VectorXd::Zero(config.model.nv()));
-  t.tau.assign(N + 1, Eigen::VectorXd::Zero(config.model.nv()));
-  return t;
-}
-
-double MetricValue(const TaskResult& result, const std::string& name) {
-  for (const examples::Metric& m : result.metrics) {
-    if (m.name == name) return m.values.at(0);
-  }
-  ADD_FAILURE() << "no metric " << name;
-  return std::nan("");
-}
 
 /// One evaluated contact pair, by geometry names.
 struct StaticContact {
@@ -96,7 +78,7 @@ StaticCheck CheckStatic(const ExampleConfig& config, const std::string& joint) {
 TEST(QuadrupedExampleTest, LoadsWithThePapersParameters) {
   for (const char* name : {"quadruped", "quadruped_hills"}) {
     SCOPED_TRACE(name);
-    const ExampleConfig config = Load(name);
+    const ExampleConfig config = LoadExample(name);
     EXPECT_EQ(config.name, name);
     EXPECT_TRUE(examples::HasTaskMeasure(name));
     EXPECT_EQ(config.model.nq(), 19);
@@ -126,7 +108,7 @@ TEST(QuadrupedExampleTest, LoadsWithThePapersParameters) {
 TEST(QuadrupedExampleTest, StandsOnItsFeetNearStaticEquilibrium) {
   for (const char* name : {"quadruped", "quadruped_hills"}) {
     SCOPED_TRACE(name);
-    const ExampleConfig config = Load(name);
+    const ExampleConfig config = LoadExample(name);
     const StaticCheck check = CheckStatic(config, "body_root_joint");
     // Every foot rests on a support (ground or hill) with a few mm of compression.
     int feet_down = 0;
@@ -146,7 +128,7 @@ TEST(QuadrupedExampleTest, StandsOnItsFeetNearStaticEquilibrium) {
 }
 
 TEST(QuadrupedExampleTest, HillsAreAnalyticCylinders) {
-  const ExampleConfig config = Load("quadruped_hills");
+  const ExampleConfig config = LoadExample("quadruped_hills");
   int hills = 0;
   for (const GeometryInstance& g : config.model.geometries()) {
     if (const auto* cylinder = std::get_if<Cylinder>(&g.shape)) {
@@ -160,7 +142,7 @@ TEST(QuadrupedExampleTest, HillsAreAnalyticCylinders) {
 }
 
 TEST(QuadrupedExampleTest, TaskMeasure) {
-  const ExampleConfig config = Load("quadruped");
+  const ExampleConfig config = LoadExample("quadruped");
   const int qs = config.model.GetPositionStart("body_root_joint");
   const int vs = config.model.GetVelocityStart("body_root_joint");
   Trajectory t = RestingTrajectory(config);
@@ -215,7 +197,7 @@ TEST(QuadrupedExampleTest, TaskMeasure) {
 // ---------------------------------------------------------------------------- allegro
 
 TEST(AllegroExampleTest, LoadsWithThePapersParameters) {
-  const ExampleConfig config = Load("allegro");
+  const ExampleConfig config = LoadExample("allegro");
   EXPECT_TRUE(examples::HasTaskMeasure("allegro"));
   EXPECT_EQ(config.model.nv(), 22);
   EXPECT_EQ(config.model.nq(), 23);
@@ -239,7 +221,7 @@ TEST(AllegroExampleTest, LoadsWithThePapersParameters) {
 }
 
 TEST(AllegroExampleTest, BallRestsInTheHand) {
-  const ExampleConfig config = Load("allegro");
+  const ExampleConfig config = LoadExample("allegro");
   const StaticCheck check = CheckStatic(config, "ball_root_joint");
   // The palm carries the ball's weight; the fingertips are within a few mm of it.
   double palm_force = 0.0;
@@ -259,7 +241,7 @@ TEST(AllegroExampleTest, BallRestsInTheHand) {
 }
 
 TEST(AllegroExampleTest, TaskMeasure) {
-  const ExampleConfig config = Load("allegro");
+  const ExampleConfig config = LoadExample("allegro");
   const int qs = config.model.GetPositionStart("ball_root_joint");
   const int vs = config.model.GetVelocityStart("ball_root_joint");
   Trajectory t = RestingTrajectory(config);

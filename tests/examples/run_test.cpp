@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "examples/example_test_support.hpp"
 #include "idto/config/config.hpp"
 #include "idto/solver/trajectory_optimizer.hpp"
 #include "run/metrics.hpp"
@@ -17,14 +18,11 @@
 namespace idto {
 namespace {
 
+using test::kShareDirs;
+using test::LoadExample;
+
 using examples::EvaluateTask;
 using examples::TaskResult;
-
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
-
-ExampleConfig LoadExample(const std::string& name) {
-  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
-}
 
 /// A trajectory that stays at q_init and ends at q_final, with zero velocities and efforts.
 Trajectory MakeTrajectory(const ExampleConfig& config, const Eigen::VectorXd& q_final) {

@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "examples/example_test_support.hpp"
 #include "idto/config/config.hpp"
 #include "idto/multibody/algorithms/kinematics.hpp"
 #include "idto/multibody/data.hpp"
@@ -23,32 +24,13 @@
 namespace idto {
 namespace {
 
+using test::kShareDirs;
+using test::LoadExample;
+using test::MetricValue;
+using test::RestingTrajectory;
+
 using examples::EvaluateTask;
 using examples::TaskResult;
-
-const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
-
-ExampleConfig LoadExample(const std::string& name) {
-  return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
-}
-
-/// q_k = q_init for every k, zero velocities and efforts.
-Trajectory MakeStillTrajectory(const ExampleConfig& config) {
-  const int N = config.problem.num_steps;
-  Trajectory t;
-  t.q.assign(N + 1, config.problem.q_init);
-  t.v.assign(N + 1, Eigen::VectorXd::Zero(config.model.nv()));
-  t.tau.assign(N + 1, Eigen::VectorXd::Zero(config.model.nv()));
-  return t;
-}
-
-double MetricValue(const TaskResult& result, const std::string& name) {
-  for (const examples::Metric& m : result.metrics) {
-    if (m.name == name) return m.values.at(0);
-  }
-  ADD_FAILURE() << "no metric " << name;
-  return std::nan("");
-}
 
 struct SolvedRun {
   SolverSummary summary;
@@ -77,7 +59,7 @@ TEST(SpinnerTaskTest, AngleGainedAndPassiveSpinner) {
   ASSERT_TRUE(examples::HasTaskMeasure("spinner"));
   const int s = config.model.GetVelocityStart("spinner_axle");
   ASSERT_EQ(config.problem.UnactuatedDofs(config.model), std::vector<int>{s});
-  Trajectory t = MakeStillTrajectory(config);
+  Trajectory t = RestingTrajectory(config);
   t.q.back()(s) += 1.8;
   TaskResult result = EvaluateTask(config, t);
   EXPECT_TRUE(result.task_success);
@@ -140,7 +122,7 @@ TEST(HopperTaskTest, DistanceFlightAndUprightLanding) {
   const int base = config.model.GetPositionStart("body_root_joint");
   const int N = config.problem.num_steps;
   // Standing still: supported by the ground at every step, no distance.
-  Trajectory t = MakeStillTrajectory(config);
+  Trajectory t = RestingTrajectory(config);
   TaskResult result = EvaluateTask(config, t);
   EXPECT_FALSE(result.task_success);
   EXPECT_EQ(MetricValue(result, "airborne_steps"), 0.0);
