@@ -37,6 +37,7 @@
 
 #include "campaign/campaign.hpp"
 #include "campaign/campaign_report.hpp"
+#include "common/command_line.hpp"
 #include "idto/config/config.hpp"
 #include "idto/sim/plant.hpp"
 #include "idto_build_paths.hpp"
@@ -48,9 +49,10 @@ namespace {
 using idto::campaign::CampaignSettings;
 using idto::campaign::RunResult;
 
-constexpr int kExitOk = 0;
-constexpr int kExitError = 1;
-constexpr int kExitUsage = 2;
+using idto::examples::kExitError;
+using idto::examples::kExitOk;
+using idto::examples::kExitUsage;
+using idto::examples::UsageError;
 
 const char kUsage[] =
     "usage: idto-campaign NAME --runs N --seed S [options]\n"
@@ -88,10 +90,6 @@ const char kUsage[] =
     "  -h, --help          this message\n"
     "\n"
     "exit codes: 0 done, 1 error, 2 bad arguments\n";
-
-struct UsageError {
-  std::string message;
-};
 
 struct Arguments {
   std::string name;
@@ -420,21 +418,7 @@ int Run(const Arguments& a, const char* argv0) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  Arguments args;
-  try {
-    args = ParseArguments(argc, argv);
-  } catch (const UsageError& e) {
-    std::cerr << "idto-campaign: " << e.message << "\n\n" << kUsage;
-    return kExitUsage;
-  }
-  if (args.help) {
-    std::cout << kUsage;
-    return kExitOk;
-  }
-  try {
-    return Run(args, argc > 0 ? argv[0] : nullptr);
-  } catch (const std::exception& e) {
-    std::cerr << "idto-campaign: error: " << e.what() << "\n";
-    return kExitError;
-  }
+  return idto::examples::RunCommandLine<Arguments>(
+      "idto-campaign", kUsage, argc, argv, ParseArguments,
+      [&](const Arguments& args) { return Run(args, argc > 0 ? argv[0] : nullptr); });
 }

@@ -35,6 +35,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/command_line.hpp"
 #include "idto/config/config.hpp"
 #include "idto/config/mpc_config.hpp"
 #include "idto/core/csv.hpp"
@@ -59,9 +60,10 @@ using idto::SolverSummary;
 using idto::Trajectory;
 using idto::examples::JsonWriter;
 
-constexpr int kExitOk = 0;
-constexpr int kExitError = 1;
-constexpr int kExitUsage = 2;
+using idto::examples::kExitError;
+using idto::examples::kExitOk;
+using idto::examples::kExitUsage;
+using idto::examples::UsageError;
 
 const char kUsage[] =
     "usage: idto-run CONFIG.yaml|NAME [options]\n"
@@ -110,11 +112,6 @@ struct Arguments {
   std::string trajectory_csv;
   std::string stats_csv;
   std::string html;
-};
-
-/// Thrown for bad command-line arguments (exit code 2).
-struct UsageError {
-  std::string message;
 };
 
 bool ParseInt(const std::string& text, int* value) {
@@ -722,22 +719,9 @@ int RunMpc(const Arguments& args, const char* argv0) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  Arguments args;
-  try {
-    args = ParseArguments(argc, argv);
-  } catch (const UsageError& e) {
-    std::cerr << "idto-run: " << e.message << "\n\n" << kUsage;
-    return kExitUsage;
-  }
-  if (args.help) {
-    std::cout << kUsage;
-    return kExitOk;
-  }
-  try {
-    if (args.mpc) return RunMpc(args, argc > 0 ? argv[0] : nullptr);
-    return Run(args, argc > 0 ? argv[0] : nullptr);
-  } catch (const std::exception& e) {
-    std::cerr << "idto-run: error: " << e.what() << "\n";
-    return kExitError;
-  }
+  return idto::examples::RunCommandLine<Arguments>(
+      "idto-run", kUsage, argc, argv, ParseArguments, [&](const Arguments& args) {
+        if (args.mpc) return RunMpc(args, argc > 0 ? argv[0] : nullptr);
+        return Run(args, argc > 0 ? argv[0] : nullptr);
+      });
 }
