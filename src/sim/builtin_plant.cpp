@@ -119,13 +119,7 @@ class BuiltinPlant final : public Plant {
   }
 
   void Reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v) override {
-    static constexpr const char* kWhere = "BuiltinPlant::Reset";
-    model_.CheckConfiguration(kWhere, "q", q);
-    model_.CheckVelocity(kWhere, "v", v);
-    CheckFinite(kWhere, "q", q);
-    CheckFinite(kWhere, "v", v);
-    q_ = q;
-    NormalizeQuaternions(model_, &q_);
+    internal::CheckResetState("BuiltinPlant::Reset", model_, q, v, &q_);
     v_ = v;
     clock_.Reset();
     contact_force_per_body_.setZero();
@@ -140,9 +134,7 @@ class BuiltinPlant final : public Plant {
   void Advance(double duration, const Eigen::VectorXd& u, int disturbed_body,
                const Eigen::Vector3d& f_ext_W) override {
     static constexpr const char* kWhere = "BuiltinPlant::Advance";
-    internal::CheckDisturbance(kWhere, model_, disturbed_body, f_ext_W);
-    model_.CheckVelocity(kWhere, "u", u);
-    CheckFinite(kWhere, "u", u);
+    internal::CheckAdvanceArguments(kWhere, model_, u, disturbed_body, f_ext_W);
     const long steps = clock_.Advance(kWhere, duration);
     u_ = u;
     for (long i = 0; i < steps; ++i) {

@@ -91,13 +91,7 @@ class MujocoPlant final : public Plant {
   }
 
   void Reset(const Eigen::VectorXd& q, const Eigen::VectorXd& v) override {
-    static constexpr const char* kWhere = "MujocoPlant::Reset";
-    model_.CheckConfiguration(kWhere, "q", q);
-    model_.CheckVelocity(kWhere, "v", v);
-    CheckFinite(kWhere, "q", q);
-    CheckFinite(kWhere, "v", v);
-    q_ = q;
-    NormalizeQuaternions(model_, &q_);
+    internal::CheckResetState("MujocoPlant::Reset", model_, q, v, &q_);
     mj_resetData(m_.get(), d_.get());
     map_.IdtoToMujocoState(q_, v, d_->qpos, d_->qvel);
     map_.MujocoToIdtoState(d_->qpos, d_->qvel, &q_, &v_);
@@ -138,9 +132,7 @@ class MujocoPlant final : public Plant {
   void Advance(double duration, const Eigen::VectorXd& u, int disturbed_body,
                const Eigen::Vector3d& f_ext_W) override {
     static constexpr const char* kWhere = "MujocoPlant::Advance";
-    internal::CheckDisturbance(kWhere, model_, disturbed_body, f_ext_W);
-    model_.CheckVelocity(kWhere, "u", u);
-    CheckFinite(kWhere, "u", u);
+    internal::CheckAdvanceArguments(kWhere, model_, u, disturbed_body, f_ext_W);
     const long steps = clock_.Advance(kWhere, duration);
     u_ = u;
     mjModel* m = m_.get();

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "idto/core/errors.hpp"
+#include "idto/multibody/algorithms/kinematics.hpp"
 #include "idto/multibody/model.hpp"
 
 namespace idto::sim::internal {
@@ -50,6 +51,26 @@ inline void CheckDisturbance(const char* where, const Model& model, int disturbe
         "-1 (none) or a body index in [0, " + std::to_string(model.num_bodies()) + ")");
   }
   CheckFinite(where, "f_ext_W", f_ext_W);
+}
+
+/// Checks Plant::Advance's arguments: u (nv, finite) and the disturbance (CheckDisturbance).
+inline void CheckAdvanceArguments(const char* where, const Model& model, const Eigen::VectorXd& u,
+                                  int disturbed_body, const Eigen::Vector3d& f_ext_W) {
+  CheckDisturbance(where, model, disturbed_body, f_ext_W);
+  model.CheckVelocity(where, "u", u);
+  CheckFinite(where, "u", u);
+}
+
+/// Checks Plant::Reset's state (q: nq entries, a valid configuration; v: nv; both finite) and
+/// sets *q_out to q with its quaternions normalized.
+inline void CheckResetState(const char* where, const Model& model, const Eigen::VectorXd& q,
+                            const Eigen::VectorXd& v, Eigen::VectorXd* q_out) {
+  model.CheckConfiguration(where, "q", q);
+  model.CheckVelocity(where, "v", v);
+  CheckFinite(where, "q", q);
+  CheckFinite(where, "v", v);
+  *q_out = q;
+  NormalizeQuaternions(model, q_out);
 }
 
 /// Checks Plant::SetExtraDamping's argument: nv entries, finite, >= 0, zero on multi-DoF joints.
