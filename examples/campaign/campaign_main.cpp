@@ -49,9 +49,7 @@ namespace {
 using idto::campaign::CampaignSettings;
 using idto::campaign::RunResult;
 
-using idto::examples::kExitError;
 using idto::examples::kExitOk;
-using idto::examples::kExitUsage;
 using idto::examples::UsageError;
 
 const char kUsage[] =

@@ -60,9 +60,7 @@ using idto::SolverSummary;
 using idto::Trajectory;
 using idto::examples::JsonWriter;
 
-using idto::examples::kExitError;
 using idto::examples::kExitOk;
-using idto::examples::kExitUsage;
 using idto::examples::UsageError;
 
 const char kUsage[] =

@@ -23,7 +23,6 @@
 namespace idto {
 namespace {
 
-using test::kShareDirs;
 using test::LoadExample;
 
 const std::vector<std::string> kExamples = {

@@ -24,7 +24,6 @@
 namespace idto {
 namespace {
 
-using test::kShareDirs;
 using test::LoadExample;
 using test::MetricValue;
 

@@ -19,7 +19,6 @@
 namespace idto {
 namespace {
 
-using test::kShareDirs;
 using test::LoadExample;
 
 struct Excess {

@@ -27,7 +27,6 @@
 namespace idto {
 namespace {
 
-using test::kShareDirs;
 using test::LoadExample;
 using test::MetricValue;
 using test::RestingTrajectory;

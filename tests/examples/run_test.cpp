@@ -18,7 +18,6 @@
 namespace idto {
 namespace {
 
-using test::kShareDirs;
 using test::LoadExample;
 
 using examples::EvaluateTask;
