@@ -11,7 +11,14 @@
 // double-double step; "examples/<name>/<penalty|lagrange>_portable_kernels/analytic/threads:<T>":
 // the dense block kernels' portable path (src/math/block_kernels.hpp), the peer of the AVX2/FMA
 // path that the default runs on CPUs that have it.
+//
+// "solve5/<name>/<penalty|lagrange>/<trial_derivatives|separate>/threads:<T>": whole solves of 5
+// iterations, where trial points bring the next iteration's derivatives (the one-iteration
+// benchmarks above end on their last iteration, which never evaluates its trial point with
+// derivatives); "solve5_ab/<name>/<penalty|lagrange>/threads:<T>": the two alternating in one
+// loop, with their ratio.
 
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <vector>
@@ -38,27 +45,36 @@ class PortableKernels {
   bool on_, before_;
 };
 
+// Loads examples/<name>/<name>.yaml into *config and sets *options to its solver options on
+// state.range(0) threads with the penalty or Lagrange route, 5 fixed iterations (the warm-up).
+// False (the benchmark skipped with the error) when the example does not load.
+bool LoadBenchmarkExample(benchmark::State& state, const std::string& name, bool lagrange,
+                          idto::ExampleConfig* config, idto::SolverOptions* options) {
+  try {
+    const std::string dir = std::string(IDTO_SOURCE_DIR);
+    *config = idto::LoadExampleConfig(dir + "/examples/" + name + "/" + name + ".yaml", {dir});
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return false;
+  }
+  *options = config->solver;
+  options->num_threads = static_cast<int>(state.range(0));
+  options->constraint_method =
+      lagrange ? idto::ConstraintMethod::kLagrangeMultipliers : idto::ConstraintMethod::kPenalty;
+  options->max_iterations = 5;
+  options->fixed_iterations = true;
+  return true;
+}
+
 void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool lagrange,
                          idto::DerivativeMethod derivatives, bool double_residual,
                          bool portable_kernels = false) {
   const PortableKernels kernels(portable_kernels);
-  const int threads = static_cast<int>(state.range(0));
   idto::ExampleConfig config;
-  try {
-    const std::string dir = std::string(IDTO_SOURCE_DIR);
-    config = idto::LoadExampleConfig(dir + "/examples/" + name + "/" + name + ".yaml", {dir});
-  } catch (const std::exception& e) {
-    state.SkipWithError(e.what());
-    return;
-  }
-  idto::SolverOptions o = config.solver;
-  o.num_threads = threads;
-  o.constraint_method =
-      lagrange ? idto::ConstraintMethod::kLagrangeMultipliers : idto::ConstraintMethod::kPenalty;
+  idto::SolverOptions o;
+  if (!LoadBenchmarkExample(state, name, lagrange, &config, &o)) return;
   o.derivative_method = derivatives;
   if (double_residual) o.kkt_extended_threshold = std::numeric_limits<double>::infinity();
-  o.max_iterations = 5;
-  o.fixed_iterations = true;
   idto::TrajectoryOptimizer opt(config.model, config.problem, o);
   idto::Trajectory sol;
   opt.Solve(idto::MakeInitialGuess(config), &sol);  // warm-up: past the first iterations
@@ -66,6 +82,95 @@ void BM_ExampleIteration(benchmark::State& state, const std::string& name, bool 
   idto::bench::TimeSolverIterations(state, &opt, &sol);
   state.counters["nq"] = config.model.nq();
   state.counters["N"] = config.problem.num_steps;
+}
+
+// One benchmark iteration is a whole solve of kSolveIterations iterations (Solve from the
+// iterate the warm-up reached, so every call does the same work), with the initial guess's
+// evaluation: the iteration figure (`iteration_us`) is the solve time divided by the iterations,
+// everything included. With trial derivatives (the default) each accepted trial point brings
+// its derivatives; "separate" evaluates and differentiates in two passes (the peer). Counters:
+// accepted steps and trial points evaluated with derivatives per solve.
+constexpr int kSolveIterations = 5;
+
+void BM_ExampleSolve(benchmark::State& state, const std::string& name, bool lagrange,
+                     bool trial_derivatives) {
+  idto::ExampleConfig config;
+  idto::SolverOptions o;
+  if (!LoadBenchmarkExample(state, name, lagrange, &config, &o)) return;
+  o.trial_derivatives = trial_derivatives;
+  idto::TrajectoryOptimizer opt(config.model, config.problem, o);
+  idto::Trajectory sol;
+  opt.Solve(idto::MakeInitialGuess(config), &sol);  // warm-up: past the first iterations
+  const std::vector<Eigen::VectorXd> start = sol.q;
+  opt.mutable_options().max_iterations = kSolveIterations;
+  double seconds = 0.0, accepted = 0.0, with_derivatives = 0.0, t_deriv = 0.0, t_cost = 0.0;
+  double t_hess = 0.0;
+  std::int64_t solves = 0;
+  for (auto _ : state) {
+    const idto::SolverSummary s = opt.Solve(start, &sol);
+    if (s.termination == idto::TerminationType::kFailure || s.iterations != kSolveIterations) {
+      state.SkipWithError(("solve failed: " + s.message).c_str());
+      break;
+    }
+    seconds += s.solve_time;
+    for (const idto::IterationSummary& it : s.log) {
+      accepted += it.accepted;
+      with_derivatives += it.trial_with_derivatives;
+      t_deriv += it.time_derivatives;
+      t_cost += it.time_cost;
+      t_hess += it.time_hessian;
+    }
+    ++solves;
+  }
+  if (solves > 0) {
+    const double n = static_cast<double>(solves);
+    state.counters["iteration_us"] = 1e6 * seconds / (n * kSolveIterations);
+    state.counters["accepted"] = accepted / n;
+    state.counters["derivatives_us"] = 1e6 * t_deriv / (n * kSolveIterations);
+    state.counters["trial_cost_us"] = 1e6 * t_cost / (n * kSolveIterations);
+    state.counters["hessian_us"] = 1e6 * t_hess / (n * kSolveIterations);
+    state.counters["trials_with_derivatives"] = with_derivatives / n;
+  }
+  state.counters["nq"] = config.model.nq();
+  state.counters["N"] = config.problem.num_steps;
+}
+
+// Trial derivatives against separate evaluation and derivatives, alternating solve by solve in
+// one loop (the machine's speed drifts by up to 1.5x between runs minutes apart): each
+// benchmark iteration is one solve of each kind. Counters: µs per solver iteration of each and
+// their ratio (separate / trial derivatives: above 1 when the default is faster).
+void BM_TrialDerivativesAb(benchmark::State& state, const std::string& name, bool lagrange) {
+  idto::ExampleConfig config;
+  idto::SolverOptions o;
+  if (!LoadBenchmarkExample(state, name, lagrange, &config, &o)) return;
+  idto::Trajectory sol;
+  idto::TrajectoryOptimizer warm(config.model, config.problem, o);
+  warm.Solve(idto::MakeInitialGuess(config), &sol);
+  const std::vector<Eigen::VectorXd> start = sol.q;
+  o.max_iterations = kSolveIterations;
+  o.trial_derivatives = true;
+  idto::TrajectoryOptimizer fused(config.model, config.problem, o);
+  o.trial_derivatives = false;
+  idto::TrajectoryOptimizer separate(config.model, config.problem, o);
+  double t_fused = 0.0, t_separate = 0.0;
+  std::int64_t solves = 0;
+  for (auto _ : state) {
+    const idto::SolverSummary a = fused.Solve(start, &sol);
+    const idto::SolverSummary b = separate.Solve(start, &sol);
+    if (a.iterations != kSolveIterations || b.iterations != kSolveIterations) {
+      state.SkipWithError("a solve stopped early");
+      break;
+    }
+    t_fused += a.solve_time;
+    t_separate += b.solve_time;
+    ++solves;
+  }
+  if (solves > 0) {
+    const double per = 1e6 / (static_cast<double>(solves) * kSolveIterations);
+    state.counters["trial_derivatives_us"] = t_fused * per;
+    state.counters["separate_us"] = t_separate * per;
+    state.counters["ratio"] = t_separate / t_fused;
+  }
 }
 
 void Register() {
@@ -88,6 +193,30 @@ void Register() {
             [name, lagrange, method, double_residual](benchmark::State& s) {
               BM_ExampleIteration(s, name, lagrange, method, double_residual);
             })
+            ->ArgName("threads")
+            ->Arg(1)
+            ->Arg(2)
+            ->Unit(benchmark::kMillisecond)
+            ->UseRealTime();
+      }
+    }
+    for (const bool lagrange : {false, true}) {
+      if (name == "pendulum" && lagrange) continue;
+      benchmark::RegisterBenchmark(
+          ("solve5_ab/" + name + "/" + (lagrange ? "lagrange" : "penalty")).c_str(),
+          [name, lagrange](benchmark::State& s) { BM_TrialDerivativesAb(s, name, lagrange); })
+          ->ArgName("threads")
+          ->Arg(1)
+          ->Arg(2)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
+      for (const bool fused : {true, false}) {
+        const std::string bench = "solve5/" + name + "/" + (lagrange ? "lagrange" : "penalty") +
+                                  (fused ? "/trial_derivatives" : "/separate");
+        benchmark::RegisterBenchmark(bench.c_str(),
+                                     [name, lagrange, fused](benchmark::State& s) {
+                                       BM_ExampleSolve(s, name, lagrange, fused);
+                                     })
             ->ArgName("threads")
             ->Arg(1)
             ->Arg(2)

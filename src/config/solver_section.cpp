@@ -9,23 +9,13 @@ namespace idto::config_internal {
 
 namespace {
 
-const std::vector<std::string> kSolverKeys = {"max_iterations",
-                                              "num_threads",
-                                              "constraint_method",
-                                              "penalty_weight",
-                                              "derivative_method",
-                                              "finite_difference_step",
-                                              "scaling",
-                                              "initial_trust_radius",
-                                              "max_trust_radius",
-                                              "acceptance_ratio",
-                                              "cost_tolerance",
-                                              "gradient_tolerance",
-                                              "step_tolerance",
-                                              "fixed_iterations",
-                                              "verbosity",
-                                              "kkt_extended_residual",
-                                              "kkt_extended_threshold"};
+const std::vector<std::string> kSolverKeys = {
+    "max_iterations",   "num_threads",           "constraint_method",
+    "penalty_weight",   "derivative_method",     "finite_difference_step",
+    "scaling",          "initial_trust_radius",  "max_trust_radius",
+    "acceptance_ratio", "cost_tolerance",        "gradient_tolerance",
+    "step_tolerance",   "fixed_iterations",      "trial_derivatives",
+    "verbosity",        "kkt_extended_residual", "kkt_extended_threshold"};
 
 static_assert(static_cast<int>(ConstraintMethod::kNone) == 0 &&
                   static_cast<int>(ConstraintMethod::kPenalty) == 1 &&
@@ -65,6 +55,7 @@ void ConfigLoader::LoadSolver(const YAML::Node& node, const std::string& path) {
   o.gradient_tolerance = s.NonNegative("gradient_tolerance", o.gradient_tolerance);
   o.step_tolerance = s.NonNegative("step_tolerance", o.step_tolerance);
   o.fixed_iterations = s.Bool("fixed_iterations", o.fixed_iterations);
+  o.trial_derivatives = s.Bool("trial_derivatives", o.trial_derivatives);
   o.kkt_extended_residual = s.Bool("kkt_extended_residual", o.kkt_extended_residual);
   o.kkt_extended_threshold = s.NonNegative("kkt_extended_threshold", o.kkt_extended_threshold);
   o.verbosity = s.Int("verbosity", o.verbosity, 0);

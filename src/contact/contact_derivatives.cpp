@@ -439,4 +439,32 @@ ContactDerivativeStats AddContactDerivatives(const Model& model, const ContactEn
   return stats;
 }
 
+void SubtractBodyForceTorques(const Model& model, const BodyForces& F_ext, const Data& rnea,
+                              Eigen::Matrix<double, 6, Eigen::Dynamic>* F_subtree,
+                              Eigen::VectorXd* tau) {
+  if (F_subtree->cols() != model.num_bodies()) F_subtree->resize(6, model.num_bodies());
+  F_subtree->setZero();
+  for (BodyIndex b = 1; b < model.num_bodies(); ++b) {
+    const BodyIndex m = model.mobilized_body(b);
+    if (m == kWorldBody) continue;
+    const auto F = F_ext.col(b);
+    if (F.isZero(0.0)) continue;
+    // The moment about the world origin: n + p_Bo x f.
+    const Vector3d f = F.tail<3>();
+    F_subtree->col(m).head<3>() += F.head<3>() + rnea.X_WB_[b].p.cross(f);
+    F_subtree->col(m).tail<3>() += f;
+  }
+  const std::vector<BodyIndex>& moving = model.moving_bodies();
+  for (auto it = moving.rbegin(); it != moving.rend(); ++it) {
+    const BodyIndex p = model.moving_parent(*it);
+    if (p != kWorldBody) F_subtree->col(p) += F_subtree->col(*it);
+  }
+  for (BodyIndex b : moving) {
+    const int iv = model.velocity_start(b);
+    for (int c = 0; c < model.joint_nv(b); ++c) {
+      (*tau)(iv + c) -= rnea.S_.col(iv + c).dot(F_subtree->col(b));
+    }
+  }
+}
+
 }  // namespace idto

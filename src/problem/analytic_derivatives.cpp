@@ -9,6 +9,7 @@
 #include <memory>
 
 #include "core/parallel.hpp"
+#include "core/ticks.hpp"
 #include "idto/contact/contact_derivatives.hpp"
 #include "idto/multibody/algorithms/rnea_derivatives-inl.hpp"
 #include "idto/problem/transcription.hpp"
@@ -40,7 +41,6 @@ class AnalyticEvaluator final : public TauDerivativeEvaluator {
   void Calc(const TrajectoryState& s, Transcription* t, TrajectoryDerivatives* d) const override {
     const Model& model = t->model();
     const ContactEngine* engine = t->engine();
-    const double inv_dt = 1.0 / t->time_step();
     ParallelFor(0, t->num_steps(), t->num_threads(), [&](int k, int thread) {
       TranscriptionWorkspace& ws = t->workspace(thread);
       Data& data = ws.data;
@@ -50,21 +50,57 @@ class AnalyticEvaluator final : public TauDerivativeEvaluator {
         AddContactDerivatives(model, *engine, s.contact[k], data, &ws.contact_derivatives,
                               &data.dtau_dq_tangent, &data.dtau_dv);
       }
-      internal::RneaDerivativesToRawCoordinates(model, s.q[k + 1].data(), &data);
-      ws.Mdt = inv_dt * data.M;
-      ws.B = data.dtau_dv + ws.Mdt;
-      d->dtau_dqp[k] = data.dtau_dq;
-      AddTimesVelocityPartial(model, ws.B, d->dv_dq[k + 1], 1.0, &d->dtau_dqp[k]);
-      if (k >= 1) {
-        d->dtau_dq[k].setZero();
-        AddTimesVelocityPartial(model, ws.B, d->dv_dqm[k + 1], 1.0, &d->dtau_dq[k]);
-        AddTimesVelocityPartial(model, ws.Mdt, d->dv_dq[k], -1.0, &d->dtau_dq[k]);
-      }
-      if (k >= 2) {
-        d->dtau_dqm[k].setZero();
-        AddTimesVelocityPartial(model, ws.Mdt, d->dv_dqm[k], -1.0, &d->dtau_dqm[k]);
-      }
+      ChainRule(*t, s, k, &ws, d);
     });
+  }
+
+  bool ProvidesTau() const override { return true; }
+
+  // Per step: the RNEA derivatives (which yield ID(q, v, a) and the world-frame kinematics),
+  // the contact evaluated on those kinematics, tau = ID - J^T f, the contact derivatives.
+  void CalcWithTau(TrajectoryState* s, Transcription* t, TrajectoryDerivatives* d) const override {
+    const Model& model = t->model();
+    const ContactEngine* engine = t->engine();
+    ParallelFor(0, t->num_steps(), t->num_threads(), [&](int k, int thread) {
+      TranscriptionWorkspace& ws = t->workspace(thread);
+      Data& data = ws.data;
+      internal::ComputeRneaDerivativesTangent<double>(model, s->q[k + 1], s->v[k + 1], s->a[k],
+                                                      nullptr, &data);
+      s->tau[k] = data.tau;
+      if (engine != nullptr) {
+        ContactData& contact = s->contact[k];
+        internal::CompleteKinematicsAfterRneaDerivatives(model, &data);
+        const std::uint64_t t0 = internal::Ticks();
+        engine->Evaluate(model, data, &contact);
+        ws.contact_ticks += internal::TicksSince(t0);
+        SubtractBodyForceTorques(model, contact.F_ext, data, &ws.F_subtree, &s->tau[k]);
+        AddContactDerivatives(model, *engine, contact, data, &ws.contact_derivatives,
+                              &data.dtau_dq_tangent, &data.dtau_dv);
+      }
+      ChainRule(*t, *s, k, &ws, d);
+    });
+  }
+
+ private:
+  // The three blocks of step k from the per-step partials in ws.data (module comment).
+  static void ChainRule(const Transcription& t, const TrajectoryState& s, int k,
+                        TranscriptionWorkspace* ws, TrajectoryDerivatives* d) {
+    const Model& model = t.model();
+    Data& data = ws->data;
+    internal::RneaDerivativesToRawCoordinates(model, s.q[k + 1].data(), &data);
+    ws->Mdt = (1.0 / t.time_step()) * data.M;
+    ws->B = data.dtau_dv + ws->Mdt;
+    d->dtau_dqp[k] = data.dtau_dq;
+    AddTimesVelocityPartial(model, ws->B, d->dv_dq[k + 1], 1.0, &d->dtau_dqp[k]);
+    if (k >= 1) {
+      d->dtau_dq[k].setZero();
+      AddTimesVelocityPartial(model, ws->B, d->dv_dqm[k + 1], 1.0, &d->dtau_dq[k]);
+      AddTimesVelocityPartial(model, ws->Mdt, d->dv_dq[k], -1.0, &d->dtau_dq[k]);
+    }
+    if (k >= 2) {
+      d->dtau_dqm[k].setZero();
+      AddTimesVelocityPartial(model, ws->Mdt, d->dv_dqm[k], -1.0, &d->dtau_dqm[k]);
+    }
   }
 };
 

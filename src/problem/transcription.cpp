@@ -1,5 +1,6 @@
 #include "idto/problem/transcription.hpp"
 
+#include <stdexcept>
 #include <string>
 #include <utility>
 
@@ -199,10 +200,14 @@ void Transcription::CalcTau(const Eigen::VectorXd& q, const Eigen::VectorXd& v,
                                     reuse_from != nullptr ? &reuse : nullptr, &ws->contact_ticks);
 }
 
-double Transcription::Evaluate(TrajectoryState* s) {
+void Transcription::CalcVelocities(TrajectoryState* s) const {
   s->v[0] = problem_.v_init;
   for (int k = 1; k <= N_; ++k) CalcDiscreteVelocity(model_, s->q[k], s->q[k - 1], dt_, &s->v[k]);
   for (int k = 0; k < N_; ++k) s->a[k] = (s->v[k + 1] - s->v[k]) / dt_;
+}
+
+double Transcription::Evaluate(TrajectoryState* s) {
+  CalcVelocities(s);
   ParallelFor(0, N_, num_threads_, [&](int k, int thread) {
     CalcTau(s->q[k + 1], s->v[k + 1], s->a[k], workspaces_[thread].get(), &s->tau[k],
             engine_ ? &s->contact[k] : nullptr);
@@ -302,12 +307,31 @@ double Transcription::ConstraintViolation(const TrajectoryState& s) const {
   return sum;
 }
 
-void Transcription::CalcDerivatives(const TrajectoryState& s, TrajectoryDerivatives* d) {
+void Transcription::CalcVelocityPartials(const TrajectoryState& s, TrajectoryDerivatives* d) const {
   for (int k = 1; k <= N_; ++k) {
     CalcDiscreteVelocityPartials(model_, s.q[k], s.q[k - 1], dt_, s.v[k], &d->Nplus[k],
                                  &d->dv_dq[k], &d->dv_dqm[k]);
   }
+}
+
+void Transcription::CalcDerivatives(const TrajectoryState& s, TrajectoryDerivatives* d) {
+  CalcVelocityPartials(s, d);
   evaluator_->Calc(s, this, d);
+}
+
+double Transcription::EvaluateWithDerivatives(TrajectoryState* s, TrajectoryDerivatives* d) {
+  CalcVelocities(s);
+  CalcVelocityPartials(*s, d);
+  evaluator_->CalcWithTau(s, this, d);
+  s->cost = Cost(*s);
+  return s->cost;
+}
+
+void TauDerivativeEvaluator::CalcWithTau(TrajectoryState*, Transcription*,
+                                         TrajectoryDerivatives*) const {
+  throw std::logic_error(
+      "TauDerivativeEvaluator::CalcWithTau: this derivative method does not evaluate tau "
+      "(ProvidesTau() is false); call Evaluate and CalcDerivatives");
 }
 
 namespace {

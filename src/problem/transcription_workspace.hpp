@@ -38,6 +38,7 @@ struct TranscriptionWorkspace {
         w_tau(Eigen::VectorXd::Zero(model.nv())) {
     if (engine != nullptr) contact_derivatives = MakeContactDerivativeWorkspace(model, *engine);
     if (engine != nullptr) contact = engine->MakeData(model);
+    F_subtree.setZero(6, model.num_bodies());
   }
   Data data;
   ContactData contact;
@@ -56,6 +57,9 @@ struct TranscriptionWorkspace {
   // Analytic derivatives: M / dt and d ID / d v + M / dt (nv x nv), and the contact part's
   // scratch.
   Eigen::MatrixXd Mdt, B;
+  // Evaluation with derivatives: the contact forces summed over each moving body's subtree
+  // (6 x num_bodies; SubtractBodyForceTorques).
+  Eigen::Matrix<double, 6, Eigen::Dynamic> F_subtree;
   // Hessian rows with limit penalties: the weights with the active limit terms (nq, nv, nv, nv).
   Eigen::VectorXd w_q, w_v, w_v_next, w_tau;
   ContactDerivativeWorkspace contact_derivatives;

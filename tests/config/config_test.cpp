@@ -182,6 +182,7 @@ TEST(ConfigTest, FullFixture) {
   EXPECT_DOUBLE_EQ(s.gradient_tolerance, 0);
   EXPECT_DOUBLE_EQ(s.step_tolerance, 1e-9);
   EXPECT_TRUE(s.fixed_iterations);
+  EXPECT_FALSE(s.trial_derivatives);  // the default is true
   EXPECT_TRUE(s.kkt_extended_residual);
   EXPECT_DOUBLE_EQ(s.kkt_extended_threshold, 1e-9);
   EXPECT_EQ(s.verbosity, 1);

@@ -6,11 +6,13 @@
 // headers have the numbers): the split into a transcription and a minimizer reproduced the
 // pre-redesign rows bit for bit; the Lagrange rows were re-recorded when the banded KKT solve
 // replaced the dense multipliers; all rows were re-recorded when the analytic derivatives became
-// the default; the AVX2 file was added with the AVX2/FMA kernels. A change of these numbers is a
-// change of the method, not a refactoring: record new values only on purpose, with
+// the default; the AVX2 file was added with the AVX2/FMA kernels; the "_trial_derivatives" files
+// were added with SolverOptions::trial_derivatives (the default), the files without it are now
+// solved with that option off (separate passes, unchanged bit for bit). A change of these numbers
+// is a change of the method, not a refactoring: record new values only on purpose, with
 //   IDTO_RECORD_BASELINE=tests/data/baseline ./build/tests/idto_examples_test
 //     --gtest_filter=*Baseline*EveryExample*
-// (writes both files; keep their header comments).
+// (writes all four files; keep their header comments).
 
 #include <gtest/gtest.h>
 
@@ -36,8 +38,12 @@ using test::kShareDirs;
 
 const char* kBaselineDir = IDTO_TEST_DATA_DIR "/baseline";
 
-std::string BaselineFileName(test::KernelPath path) {
-  return path == test::KernelPath::kAvx2 ? "solver_baseline_avx2.txt" : "solver_baseline.txt";
+// trial_derivatives: the default (each trial point evaluated with its derivatives); without it
+// the solver evaluates and differentiates in separate passes, bit for bit the solver before
+// trial derivatives existed (the files without "_trial_derivatives").
+std::string BaselineFileName(test::KernelPath path, bool trial_derivatives) {
+  return std::string("solver_baseline") + (trial_derivatives ? "_trial_derivatives" : "") +
+         (path == test::KernelPath::kAvx2 ? "_avx2" : "") + ".txt";
 }
 
 const std::vector<std::string> kExamples = {
@@ -50,9 +56,10 @@ struct Result {
 };
 
 Result SolveExample(const std::string& name, ConstraintMethod method, int threads = 1,
-                    int iterations = 15) {
+                    int iterations = 15, bool trial_derivatives = true) {
   ExampleConfig config = LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
   config.solver.max_iterations = iterations;
+  config.solver.trial_derivatives = trial_derivatives;
   config.solver.num_threads = threads;
   config.solver.constraint_method = method;
   TrajectoryOptimizer optimizer(config.model, config.problem, config.solver);
@@ -84,6 +91,9 @@ std::map<std::string, Result> ReadBaseline(const std::string& file) {
   return out;
 }
 
+void CompareWithBaseline(const std::string& file, const std::vector<ConstraintMethod>& methods,
+                         bool trial_derivatives);
+
 class BaselineKernels : public test::KernelPathTest {};
 IDTO_INSTANTIATE_KERNEL_PATHS(BaselineKernels);
 
@@ -91,30 +101,42 @@ TEST_P(BaselineKernels, EveryExampleMatchesThePreRedesignSolver) {
   const std::vector<ConstraintMethod> methods = {ConstraintMethod::kPenalty,
                                                  ConstraintMethod::kLagrangeMultipliers};
   if (const char* record = std::getenv("IDTO_RECORD_BASELINE")) {
-    const std::string path = std::string(record) + "/" + BaselineFileName(GetParam());
-    std::FILE* f = std::fopen(path.c_str(), "w");
-    ASSERT_NE(f, nullptr) << path;
-    std::fprintf(f, "# name method final_cost nq q_N (15 iterations, 1 thread)\n");
-    for (const std::string& name : kExamples) {
-      for (ConstraintMethod m : methods) {
-        const Result r = SolveExample(name, m);
-        std::fprintf(f, "%s %.17g %d", Key(name, m).c_str(), r.final_cost,
-                     static_cast<int>(r.q_final.size()));
-        for (int i = 0; i < r.q_final.size(); ++i) std::fprintf(f, " %.17g", r.q_final(i));
-        std::fprintf(f, "\n");
+    for (const bool trial_derivatives : {false, true}) {
+      const std::string path =
+          std::string(record) + "/" + BaselineFileName(GetParam(), trial_derivatives);
+      std::FILE* f = std::fopen(path.c_str(), "w");
+      ASSERT_NE(f, nullptr) << path;
+      std::fprintf(f, "# name method final_cost nq q_N (15 iterations, 1 thread)\n");
+      for (const std::string& name : kExamples) {
+        for (ConstraintMethod m : methods) {
+          const Result r = SolveExample(name, m, 1, 15, trial_derivatives);
+          std::fprintf(f, "%s %.17g %d", Key(name, m).c_str(), r.final_cost,
+                       static_cast<int>(r.q_final.size()));
+          for (int i = 0; i < r.q_final.size(); ++i) std::fprintf(f, " %.17g", r.q_final(i));
+          std::fprintf(f, "\n");
+        }
       }
+      std::fclose(f);
     }
-    std::fclose(f);
-    GTEST_SKIP() << "recorded " << path;
+    GTEST_SKIP() << "recorded in " << record;
   }
-  const std::string file = std::string(kBaselineDir) + "/" + BaselineFileName(GetParam());
+  for (const bool trial_derivatives : {false, true}) {
+    const std::string file =
+        std::string(kBaselineDir) + "/" + BaselineFileName(GetParam(), trial_derivatives);
+    CompareWithBaseline(file, methods, trial_derivatives);
+  }
+}
+
+void CompareWithBaseline(const std::string& file, const std::vector<ConstraintMethod>& methods,
+                         bool trial_derivatives) {
+  SCOPED_TRACE(file);
   const std::map<std::string, Result> baseline = ReadBaseline(file);
   ASSERT_EQ(baseline.size(), kExamples.size() * methods.size()) << file;
   for (const std::string& name : kExamples) {
     for (ConstraintMethod m : methods) {
       SCOPED_TRACE(Key(name, m));
       const Result& expected = baseline.at(Key(name, m));
-      const Result r = SolveExample(name, m);
+      const Result r = SolveExample(name, m, 1, 15, trial_derivatives);
       EXPECT_LE(std::abs(r.final_cost - expected.final_cost),
                 1e-9 * std::max(1.0, std::abs(expected.final_cost)))
           << r.final_cost << " vs " << expected.final_cost;

@@ -88,7 +88,9 @@ def test_problem_and_options_attributes(spinner):
 
     s = idto.SolverOptions()
     assert s.max_iterations == 100 and s.is_valid() and s.invalid_reason() == ""
+    assert s.trial_derivatives
     for name, value in [("num_threads", 2), ("penalty_weight", 1.0), ("fixed_iterations", True),
+                        ("trial_derivatives", False),
                         ("finite_difference_step", 1e-6), ("initial_trust_radius", 0.2),
                         ("max_trust_radius", 10.0), ("acceptance_ratio", 0.1),
                         ("cost_tolerance", 0.0), ("gradient_tolerance", 0.0),
@@ -124,6 +126,8 @@ def test_solve_shapes_summary_and_trajectory(spinner):
                  "time_multipliers", "time_total", "time_contact"):
         assert isinstance(getattr(it, name), float)
     assert isinstance(it.accepted, bool) and isinstance(it.step_type, idto.DoglegStep)
+    # The last iteration's trial point has no next iteration to bring derivatives to.
+    assert it.trial_with_derivatives is False and summary.log[0].trial_with_derivatives is True
     assert summary.mean_iteration_time() > 0
     assert "max_iterations" in summary.brief_report() or summary.brief_report()
     assert len(summary.full_report()) > len(summary.brief_report())

@@ -72,4 +72,14 @@ ContactDerivativeStats AddContactDerivatives(const Model& model, const ContactEn
                                              Eigen::MatrixXd* dtau_dq_tangent,
                                              Eigen::MatrixXd* dtau_dv);
 
+/// *tau (nv) -= J(q)^T F_ext: the generalized forces of body forces F_ext (6 x num_bodies, each
+/// column [moment about the body's origin; force], world frame: ContactData::F_ext), through
+/// the world-frame motion subspaces of a ComputeRneaDerivatives pass at q in `rnea` (its S_ and
+/// the poses X_WB_ of every body, welded ones after CompleteKinematicsAfterRneaDerivatives).
+/// With tau = ID(q, v, a) from that pass this is InverseDynamics with the external forces, up to
+/// round-off. F_subtree: scratch, 6 x num_bodies (resized only when its size differs).
+void SubtractBodyForceTorques(const Model& model, const BodyForces& F_ext, const Data& rnea,
+                              Eigen::Matrix<double, 6, Eigen::Dynamic>* F_subtree,
+                              Eigen::VectorXd* tau);
+
 }  // namespace idto

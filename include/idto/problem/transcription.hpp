@@ -39,6 +39,13 @@ class TauDerivativeEvaluator {
   /// `transcription` provides the per-thread workspaces and the tau evaluation.
   virtual void Calc(const TrajectoryState& state, Transcription* transcription,
                     TrajectoryDerivatives* derivatives) const = 0;
+  /// Whether CalcWithTau is implemented: the method's per-step pass yields tau_k as well.
+  virtual bool ProvidesTau() const { return false; }
+  /// tau_k (and the contact) of every step of *state, whose q, v and a are set, and the
+  /// derivatives, in one pass per step (Transcription::EvaluateWithDerivatives). The default
+  /// throws std::logic_error: only evaluators whose ProvidesTau() is true implement it.
+  virtual void CalcWithTau(TrajectoryState* state, Transcription* transcription,
+                           TrajectoryDerivatives* derivatives) const;
 };
 
 /// Finite differences of tau_k with respect to q_s (forward or central), reusing the contact
@@ -107,6 +114,16 @@ class Transcription {
   double ConstraintViolation(const TrajectoryState& state) const;
   /// The velocity partials, then the evaluator's d tau / d q blocks.
   void CalcDerivatives(const TrajectoryState& state, TrajectoryDerivatives* derivatives);
+  /// Whether EvaluateWithDerivatives is available: the derivative method yields tau in its
+  /// per-step pass (the analytic method; not finite differences).
+  bool CanEvaluateWithDerivatives() const { return evaluator_->ProvidesTau(); }
+  /// Evaluate and CalcDerivatives in one pass over the steps: the analytic RNEA derivatives
+  /// produce ID(q, v, a) and the poses and velocities the contact needs, so the separate
+  /// kinematics and inverse dynamics of Evaluate are saved. The same quantities as Evaluate
+  /// followed by CalcDerivatives, up to round-off in tau and the contact (other arithmetic, the
+  /// same formulas); returns the cost. Allocation-free. Throws std::logic_error when
+  /// !CanEvaluateWithDerivatives().
+  double EvaluateWithDerivatives(TrajectoryState* state, TrajectoryDerivatives* derivatives);
   /// g = dL / d(q_1..q_N) (N nq), preallocated.
   void CalcGradient(const TrajectoryState& state, const TrajectoryDerivatives& derivatives,
                     Eigen::VectorXd* g);
@@ -153,6 +170,10 @@ class Transcription {
                        TranscriptionWorkspace* ws, Eigen::VectorXd* g) const;
   void CalcHessianRow(const TrajectoryState& s, const TrajectoryDerivatives& d, int k,
                       TranscriptionWorkspace* ws, PentaDiagonalMatrix* H) const;
+  // v_0..v_N and a_0..a_{N-1} from state->q (serial: each v_k is cheap).
+  void CalcVelocities(TrajectoryState* s) const;
+  // N+, d v_k / d q_k and d v_k / d q_{k-1}, k = 1..N.
+  void CalcVelocityPartials(const TrajectoryState& s, TrajectoryDerivatives* d) const;
   // The limit bounds and weights (times dt) from problem_.limits and the model.
   void SetUpLimits();
   // 1/2 dt sum of the weighted squared limit excesses of q_k, v_k (k >= 1) and tau_k (k < N).

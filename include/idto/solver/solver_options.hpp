@@ -72,6 +72,14 @@ struct SolverOptions {
   double step_tolerance{1e-12};      ///< |p| / max(|q|, 1)
   /// Runs exactly max_iterations (MPC); convergence tests are skipped.
   bool fixed_iterations{false};
+  /// With the analytic derivatives: evaluate the initial guess and each trial point together
+  /// with its derivatives, in one pass per step (Transcription::EvaluateWithDerivatives): the
+  /// next iteration after an accepted step needs no separate derivative phase, and the
+  /// evaluation's own kinematics and inverse dynamics are saved. A rejected step discards its
+  /// derivatives, so this is skipped after a rejection (until a step is accepted again) and on
+  /// the last iteration. The same method; tau and the contact round differently (docs/solver.md).
+  /// No effect with finite differences.
+  bool trial_derivatives{true};
 
   int verbosity{0};  ///< 0 silent, 1 a line per iteration (to stdout)
 

@@ -37,11 +37,17 @@ struct IterationSummary {
   DoglegStep step_type{DoglegStep::kNone};
   double constraint_violation{0.0};  ///< sum of squared unactuated generalized forces
   double trial_cost{0.0};
+  /// The trial point was evaluated together with its derivatives
+  /// (SolverOptions::trial_derivatives): an accepted step starts the next iteration with them,
+  /// a rejected one discards them.
+  bool trial_with_derivatives{false};
   /// Levenberg-Marquardt shift mu of H + mu diag(H) needed to factor H (0: none).
   double regularization{0.0};
   // Seconds spent in each phase (wall time).
-  double time_derivatives{0.0};    ///< finite-difference inverse dynamics, mass matrices
-  double time_cost{0.0};           ///< the trial point's trajectory and cost
+  /// The derivatives at the iterate (0 when the previous trial point brought them; iteration 0
+  /// with trial_derivatives: the initial guess's evaluation with its derivatives).
+  double time_derivatives{0.0};
+  double time_cost{0.0};  ///< the trial point's trajectory and cost (with its derivatives, if so)
   double time_hessian{0.0};        ///< gradient and Gauss-Newton Hessian assembly
   double time_factorization{0.0};  ///< block Cholesky of H (with any regularization retries)
   double time_multipliers{0.0};    ///< Lagrange multipliers (0 with the penalty method)

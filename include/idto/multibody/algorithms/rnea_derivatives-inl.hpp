@@ -419,6 +419,32 @@ inline void RneaDerivativesToRawCoordinates(const Model& model, const Scalar* q,
   flush();
 }
 
+/// After ComputeRneaDerivatives(Tangent): the rest of what ForwardKinematics(q, v) leaves in
+/// *data for a contact evaluation, from the pass's world-frame quantities: the poses of welded
+/// bodies (the moving ones are already there) and every body's world angular velocity and origin
+/// velocity (data->w_WB_, data->v_WBo_). Mathematically what ForwardKinematics computes, with
+/// its own round-off (velocities from the world-frame twists, not from body coordinates).
+template <typename Scalar>
+void CompleteKinematicsAfterRneaDerivatives(const Model& model, DataTpl<Scalar>* data) {
+  data->w_WB_[0].setZero();
+  data->v_WBo_[0].setZero();
+  for (BodyIndex b = 1; b < model.num_bodies(); ++b) {
+    const BodyIndex m = model.mobilized_body(b);
+    if (m == kWorldBody) {
+      // Welded to the world (kept as Kinematics keeps it: its pose from the world's).
+      data->X_WB_[b] = data->X_WB_[0] * CastTo<Scalar>(model.X_MB(b));
+      data->w_WB_[b].setZero();
+      data->v_WBo_[b].setZero();
+      continue;
+    }
+    if (m != b) data->X_WB_[b] = data->X_WB_[m] * CastTo<Scalar>(model.X_MB(b));
+    // V = (w, v_O) at the world origin: the body origin moves at v_O + w x p.
+    const SpatialMotionTpl<Scalar>& V = data->deriv_body_[m].V;
+    data->w_WB_[b] = V.w;
+    data->v_WBo_[b] = V.v + V.w.cross(data->X_WB_[b].p);
+  }
+}
+
 }  // namespace internal
 
 namespace internal {
