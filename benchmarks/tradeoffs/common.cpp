@@ -99,9 +99,11 @@ double MeanIterationSeconds(const SolverSummary& summary) {
 }
 
 double MedianFullIterationSeconds(const SolverSummary& summary) {
+  // Full: the iteration formed its gradient and Hessian (not a retry after a rejected step).
+  // With trial derivatives its derivatives may have come with the previous trial point.
   std::vector<double> times;
   for (const IterationSummary& it : summary.log) {
-    if (it.time_derivatives > 0.0) times.push_back(it.time_total);
+    if (it.time_hessian > 0.0) times.push_back(it.time_total);
   }
   return Median(times);
 }

@@ -95,7 +95,7 @@ std::string MsPerIteration(const Run& r) {
     double multipliers = 0.0;
     int n = 0;
     for (const IterationSummary& it : s.log) {
-      if (it.time_derivatives > 0.0) {
+      if (it.time_hessian > 0.0) {
         multipliers += it.time_multipliers;
         ++n;
       }

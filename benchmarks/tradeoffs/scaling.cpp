@@ -32,7 +32,7 @@ Timing TimeIterations(const ExampleConfig& config, const ProblemDefinition& prob
       t.derivatives = MedianDerivativeSeconds(t.last.summary);
       std::vector<double> multipliers;
       for (const IterationSummary& it : t.last.summary.log) {
-        if (it.time_derivatives > 0.0) multipliers.push_back(it.time_multipliers);
+        if (it.time_hessian > 0.0) multipliers.push_back(it.time_multipliers);
       }
       std::sort(multipliers.begin(), multipliers.end());
       t.multipliers = multipliers.empty() ? 0.0 : multipliers[multipliers.size() / 2];
@@ -81,7 +81,9 @@ std::string ThreadsSection(const Context& context, StudyResult* result) {
         "multipliers' KKT factorization and solve run in two halves on two threads (blocks of "
         "nq + n_u >= 8, N >= 8). Each example with its YAML settings, "
      << iterations << " iterations (`fixed_iterations`) from its initial guess, 1 and 2 "
-     << "threads; median time of the iterations that computed derivatives, the smallest of "
+     << "threads, trial derivatives off (`solver.trial_derivatives: false`: the derivative phase "
+        "timed on its own); median time of the iterations that computed derivatives, the "
+        "smallest of "
      << repeats << " solve" << (repeats > 1 ? "s" : "") << " (derivative phase in parentheses). "
      << "\"Identical\" compares the trajectories of the two runs bit for bit.\n\n";
   Table threads({"example (nq, N, method)", "1 thread: ms / iteration", "2 threads: ms / iteration",
@@ -91,6 +93,7 @@ std::string ThreadsSection(const Context& context, StudyResult* result) {
     SolverOptions options = config.solver;
     options.max_iterations = iterations;
     options.fixed_iterations = true;
+    options.trial_derivatives = false;  // the derivative phase timed on its own
     options.num_threads = 1;
     const Timing one = TimeIterations(config, config.problem, options, repeats);
     options.num_threads = 2;

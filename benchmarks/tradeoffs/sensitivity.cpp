@@ -66,7 +66,7 @@ Cell RunCell(const ExampleConfig& config, const ProblemDefinition& problem,
     cell.fall = r.summary.log[at].constraint_violation / cell.squared;
   }
   for (const IterationSummary& it : r.summary.log) {
-    if (it.time_derivatives > 0.0) {
+    if (it.time_hessian > 0.0) {
       ++cell.factorizations;
       if (it.regularization > 0.0) ++cell.shifted;
     }
