@@ -3,6 +3,7 @@
 // never crash. Which corners converge is printed (RecordProperty) for docs/tradeoffs.md.
 
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <vector>
 
@@ -13,6 +14,20 @@
 
 namespace idto {
 namespace {
+
+// The iteration limit of a corner: `fallback`, or IDTO_EXTREMES_ITERATIONS when set (to rerun
+// the corners longer, as docs/solver.md's 300-iteration comparison does).
+int CornerIterations(int fallback) {
+  const char* env = std::getenv("IDTO_EXTREMES_ITERATIONS");
+  return env != nullptr && std::atoi(env) > 0 ? std::atoi(env) : fallback;
+}
+
+// SolverOptions::trial_derivatives for the corners: the default, or off when
+// IDTO_EXTREMES_TRIAL_DERIVATIVES=0 (to compare the two at the corners).
+bool CornerTrialDerivatives() {
+  const char* env = std::getenv("IDTO_EXTREMES_TRIAL_DERIVATIVES");
+  return env == nullptr || std::string(env) != "0";
+}
 
 using test::BallAndFinger;
 
@@ -52,7 +67,8 @@ SolverSummary RunCorner(const Corner& c) {
   p.contact.parameters.smoothing = c.smoothing;
   p.contact.parameters.stiction_velocity = c.stiction;
   SolverOptions o;
-  o.max_iterations = c.iterations;
+  o.max_iterations = CornerIterations(c.iterations);
+  o.trial_derivatives = CornerTrialDerivatives();
   o.constraint_method = c.method;
   o.derivative_method = c.derivatives;
   TrajectoryOptimizer opt(model, p, o);
@@ -185,7 +201,8 @@ void RunExampleCorner(const std::string& name, double stiffness, double stiction
   std::vector<SolverSummary> summaries;
   for (int threads : {1, 2}) {
     SolverOptions o = config.solver;
-    o.max_iterations = 20;
+    o.max_iterations = CornerIterations(20);
+    o.trial_derivatives = CornerTrialDerivatives();
     o.num_threads = threads;
     o.derivative_method = derivatives;
     TrajectoryOptimizer opt(config.model, p, o);
