@@ -76,9 +76,10 @@ struct SolverOptions {
   /// with its derivatives, in one pass per step (Transcription::EvaluateWithDerivatives): the
   /// next iteration after an accepted step needs no separate derivative phase, and the
   /// evaluation's own kinematics and inverse dynamics are saved. A rejected step discards its
-  /// derivatives, so this is skipped after a rejection (until a step is accepted again) and on
-  /// the last iteration. The same method; tau and the contact round differently (docs/solver.md).
-  /// No effect with finite differences.
+  /// derivatives, so trial points are evaluated so only where acceptance is likely: not on the
+  /// last iteration, after a rejected step or a step that grew the trust radius, or for a full
+  /// Newton step. The same method; tau and the contact round differently (docs/solver.md,
+  /// "Trial derivatives"). No effect with finite differences.
   bool trial_derivatives{true};
 
   int verbosity{0};  ///< 0 silent, 1 a line per iteration (to stdout)
