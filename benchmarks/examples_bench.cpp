@@ -16,7 +16,8 @@
 // iterations, where trial points bring the next iteration's derivatives (the one-iteration
 // benchmarks above end on their last iteration, which never evaluates its trial point with
 // derivatives); "solve5_ab/<name>/<penalty|lagrange>/threads:<T>": the two alternating in one
-// loop, with their ratio.
+// loop, with their ratio; "correction_ab/<name>/lagrange/threads:<T>": the same for the
+// constraint correction (SolverOptions::constraint_correction) against none.
 
 #include <cstdint>
 #include <limits>
@@ -135,11 +136,15 @@ void BM_ExampleSolve(benchmark::State& state, const std::string& name, bool lagr
   state.counters["N"] = config.problem.num_steps;
 }
 
-// Trial derivatives against separate evaluation and derivatives, alternating solve by solve in
-// one loop (the machine's speed drifts by up to 1.5x between runs minutes apart): each
-// benchmark iteration is one solve of each kind. Counters: µs per solver iteration of each and
-// their ratio (separate / trial derivatives: above 1 when the default is faster).
-void BM_TrialDerivativesAb(benchmark::State& state, const std::string& name, bool lagrange) {
+// Two settings of one option alternating solve by solve in one loop (the machine's speed drifts
+// by up to 1.5x between runs minutes apart): each benchmark iteration is one solve of each.
+// set(options, first) applies the first (the default) or the second setting. Counters: µs per
+// solver iteration of each (named first_name, second_name) and their ratio second / first (above
+// 1 when the default is faster). trial derivatives vs separate passes; the constraint correction
+// vs none (their solves take different steps: the ratio is per iteration, not per solve).
+template <typename Set>
+void BM_OptionAb(benchmark::State& state, const std::string& name, bool lagrange,
+                 const char* first_name, const char* second_name, Set set) {
   idto::ExampleConfig config;
   idto::SolverOptions o;
   if (!LoadBenchmarkExample(state, name, lagrange, &config, &o)) return;
@@ -148,29 +153,42 @@ void BM_TrialDerivativesAb(benchmark::State& state, const std::string& name, boo
   warm.Solve(idto::MakeInitialGuess(config), &sol);
   const std::vector<Eigen::VectorXd> start = sol.q;
   o.max_iterations = kSolveIterations;
-  o.trial_derivatives = true;
-  idto::TrajectoryOptimizer fused(config.model, config.problem, o);
-  o.trial_derivatives = false;
-  idto::TrajectoryOptimizer separate(config.model, config.problem, o);
-  double t_fused = 0.0, t_separate = 0.0;
+  set(&o, true);
+  idto::TrajectoryOptimizer first(config.model, config.problem, o);
+  set(&o, false);
+  idto::TrajectoryOptimizer second(config.model, config.problem, o);
+  double t_first = 0.0, t_second = 0.0;
   std::int64_t solves = 0;
   for (auto _ : state) {
-    const idto::SolverSummary a = fused.Solve(start, &sol);
-    const idto::SolverSummary b = separate.Solve(start, &sol);
+    const idto::SolverSummary a = first.Solve(start, &sol);
+    const idto::SolverSummary b = second.Solve(start, &sol);
     if (a.iterations != kSolveIterations || b.iterations != kSolveIterations) {
       state.SkipWithError("a solve stopped early");
       break;
     }
-    t_fused += a.solve_time;
-    t_separate += b.solve_time;
+    t_first += a.solve_time;
+    t_second += b.solve_time;
     ++solves;
   }
   if (solves > 0) {
     const double per = 1e6 / (static_cast<double>(solves) * kSolveIterations);
-    state.counters["trial_derivatives_us"] = t_fused * per;
-    state.counters["separate_us"] = t_separate * per;
-    state.counters["ratio"] = t_separate / t_fused;
+    state.counters[first_name] = t_first * per;
+    state.counters[second_name] = t_second * per;
+    state.counters["ratio"] = t_second / t_first;
   }
+}
+
+void BM_TrialDerivativesAb(benchmark::State& state, const std::string& name, bool lagrange) {
+  BM_OptionAb(state, name, lagrange, "trial_derivatives_us", "separate_us",
+              [](idto::SolverOptions* o, bool first) { o->trial_derivatives = first; });
+}
+
+void BM_ConstraintCorrectionAb(benchmark::State& state, const std::string& name) {
+  const double correction = idto::SolverOptions().constraint_correction;
+  BM_OptionAb(state, name, true, "correction_us", "no_correction_us",
+              [correction](idto::SolverOptions* o, bool first) {
+                o->constraint_correction = first ? correction : 0.0;
+              });
 }
 
 void Register() {
@@ -199,6 +217,16 @@ void Register() {
             ->Unit(benchmark::kMillisecond)
             ->UseRealTime();
       }
+    }
+    if (name != "pendulum") {
+      benchmark::RegisterBenchmark(
+          ("correction_ab/" + name + "/lagrange").c_str(),
+          [name](benchmark::State& s) { BM_ConstraintCorrectionAb(s, name); })
+          ->ArgName("threads")
+          ->Arg(1)
+          ->Arg(2)
+          ->Unit(benchmark::kMillisecond)
+          ->UseRealTime();
     }
     for (const bool lagrange : {false, true}) {
       if (name == "pendulum" && lagrange) continue;

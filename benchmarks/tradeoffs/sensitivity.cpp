@@ -74,6 +74,9 @@ Cell RunCell(const ExampleConfig& config, const ProblemDefinition& problem,
   return cell;
 }
 
+// The third grid's method: idto's defaults at the paper's settings.
+constexpr const char* kIdtoMethod = "analytic derivatives and constraint correction";
+
 // The reference sums its cost without idto's 1/2: doubling every weight makes idto's cost,
 // gradient and Hessian (and so the scaling D and the trust region) those of the reference.
 constexpr double kPaperWeightScale = 2.0;
@@ -138,9 +141,13 @@ std::string SettingsText(const Context& context, int iterations) {
      << iterations << " iterations, " << context.threads
      << " threads, and every cost weight doubled: the reference's cost has no ½, so doubling "
         "makes idto's cost, gradient and Hessian (and with them the scaling D and the trust "
-        "region) the reference's. We then ran the same grid again with idto's default "
-        "derivatives, `derivative_method = kAnalytic` (exact ∂τ/∂q; section 3), everything "
-        "else identical.\n\n";
+        "region) the reference's. These two grids take the reference's step: the dogleg step as "
+        "it is (`constraint_correction = 0`). We then ran the same grid again with idto's "
+        "default derivatives, `derivative_method = kAnalytic` (exact ∂τ/∂q; section 3), "
+        "everything else identical, and a third time with idto's defaults at those settings: "
+        "analytic derivatives and the constraint correction (`constraint_correction = 0.5`, "
+        "docs/solver.md \"Constraint correction\": a dogleg step short of the Newton step is "
+        "moved onto the linearized constraints h + A p = 0).\n\n";
   if (context.quick) {
     md << "**Quick mode: " << iterations
        << " iterations, not the paper's 500; these numbers are not comparable with the "
@@ -189,21 +196,29 @@ int CellsAtOrBelowPaper(const Grid& g) {
   return count;
 }
 
-std::string CountText(const Grid& forward, const Grid& analytic) {
-  const int f = CellsAtOrBelowPaper(forward), a = CellsAtOrBelowPaper(analytic);
-  int analytic_lower = 0;
+/// Cells where `a` ends below `b` (Δ₀ = 10).
+int CellsBelow(const Grid& a, const Grid& b) {
+  int count = 0;
   for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) {
-      if (analytic.main[r][c].norm < forward.main[r][c].norm) ++analytic_lower;
-    }
+    for (int c = 0; c < 4; ++c) count += a.main[r][c].norm < b.main[r][c].norm;
   }
+  return count;
+}
+
+std::string CountText(const Grid& forward, const Grid& analytic, const Grid& idto) {
+  const int f = CellsAtOrBelowPaper(forward), a = CellsAtOrBelowPaper(analytic);
+  const int i = CellsAtOrBelowPaper(idto);
   std::ostringstream md;
   md << "**Cells at or below the paper's number** (‖h‖₂ at Δ₀ = 10 as printed, two significant "
-        "digits, ≤ the paper's): forward differences "
-     << f << " of 16, analytic derivatives " << a << " of 16. The target for the analytic "
-     << "derivatives is at least " << kTargetCells << " of 16: **"
-     << (a >= kTargetCells ? "met" : "not met") << "** (" << a << " of 16). The analytic "
-     << "derivatives end below forward differences in " << analytic_lower << " of 16 cells.\n\n";
+        "digits, ≤ the paper's): forward differences (the reference's step) "
+     << f << " of 16, analytic derivatives (the reference's step) " << a
+     << " of 16, analytic derivatives and constraint correction (idto's defaults) " << i
+     << " of 16. The target for the analytic derivatives is at least " << kTargetCells
+     << " of 16: **" << (i >= kTargetCells ? "met" : "not met") << "** with idto's defaults (" << i
+     << " of 16; " << a << " of 16 with the reference's step). The analytic derivatives end "
+     << "below forward differences in " << CellsBelow(analytic, forward)
+     << " of 16 cells with the reference's step; with the correction, below the reference's step "
+     << "(analytic) in " << CellsBelow(idto, analytic) << " of 16.\n\n";
   return md.str();
 }
 
@@ -423,8 +438,9 @@ std::string Figure(const Context& context, const Grid* const grids[2], int itera
   }
   gp << "unset multiplot\n";
   if (!RunGnuplot(context.data_dir, "sensitivity", gp.str())) return "";
-  return "![Spinner constraint violation vs stiffness, idto (forward differences and analytic "
-         "derivatives) and the paper](" +
+  return "![Spinner constraint violation vs stiffness, idto (forward differences with the "
+         "reference's step; analytic derivatives with the constraint correction) and the "
+         "paper](" +
          context.figure_link_prefix + "tradeoffs_sensitivity.png)\n\n";
 }
 
@@ -441,19 +457,22 @@ const char* const kDifferencesText =
     "entry of H is at least 8); the iterate reported (the reference's log row of the last "
     "iteration holds ‖h‖₂ before that iteration's step); idto's Levenberg–Marquardt retry when "
     "the Hessian factorization fails (counted above); and the machine and thread count (the "
-    "paper's 4 threads; idto's results do not depend on the thread count).\n\n";
+    "paper's 4 threads; idto's results do not depend on the thread count); and, in the third "
+    "grid only, idto's constraint correction of dogleg steps, which the reference does "
+    "not have.\n\n";
 
 /// The grid at Δ₀ = 10 on idto's own spinner example, beside the reference model's counts.
 std::string ExampleModelText(const Grid& forward, const Grid& analytic,
                              const Grid& reference_analytic, int iterations) {
+  // analytic, reference_analytic: idto's defaults (analytic derivatives, constraint correction).
   std::ostringstream md;
   md << "**The same grid on idto's spinner example** (`models/spinner.urdf`, everything else "
         "as above; Δ₀ = 10 only), to show how much the model alone moves the table:\n\n"
      << NormTable(analytic, {10.0}, iterations) << "Cells at or below the paper's number: "
-     << "forward differences " << CellsAtOrBelowPaper(forward) << " of 16, analytic derivatives "
-     << CellsAtOrBelowPaper(analytic)
+     << "forward differences (the reference's step) " << CellsAtOrBelowPaper(forward)
+     << " of 16, idto's defaults " << CellsAtOrBelowPaper(analytic)
      << " of 16 (the reference's model: " << CellsAtOrBelowPaper(reference_analytic)
-     << " of 16 with analytic derivatives).\n\n";
+     << " of 16 with idto's defaults).\n\n";
   return md.str();
 }
 
@@ -484,8 +503,12 @@ StudyResult RunSensitivityStudy(const Context& context) {
   paper.max_trust_radius = 1e5;
   paper.acceptance_ratio = 0.0;
   paper.num_threads = context.threads;
+  paper.constraint_correction = 0.0;  // the reference's step
   SolverOptions paper_analytic = paper;
   paper_analytic.derivative_method = DerivativeMethod::kAnalytic;
+  // idto's defaults at the paper's settings: analytic derivatives and the constraint correction.
+  SolverOptions paper_idto = paper_analytic;
+  paper_idto.constraint_correction = SolverOptions().constraint_correction;
   // idto as a user runs it: spinner.yaml's weights and solver section, same iteration count.
   SolverOptions ours = config.solver;
   ours.max_iterations = iterations;
@@ -494,8 +517,9 @@ StudyResult RunSensitivityStudy(const Context& context) {
 
   const Grid forward = RunGrid(config, paper, radii, "forward differences");
   const Grid analytic = RunGrid(config, paper_analytic, radii, "analytic derivatives");
+  const Grid idto = RunGrid(config, paper_idto, radii, kIdtoMethod);
   const Grid example_forward = RunGrid(example, paper, {10.0}, "forward differences");
-  const Grid example_analytic = RunGrid(example, paper_analytic, {10.0}, "analytic derivatives");
+  const Grid example_idto = RunGrid(example, paper_idto, {10.0}, kIdtoMethod);
   Cell plain[4][4];
   double plain_seconds = 0.0;
   for (int r = 0; r < 4; ++r) {
@@ -507,25 +531,28 @@ StudyResult RunSensitivityStudy(const Context& context) {
 
   std::ostringstream md;
   md << SettingsText(context, iterations) << NormTable(forward, radii, iterations)
-     << NormTable(analytic, radii, iterations) << CountText(forward, analytic)
-     << WhichNormText(forward) << DetailTables(forward, analytic, plain, ours, iterations)
-     << Reading(forward, radii) << Reading(analytic, radii)
-     << ExampleModelText(example_forward, example_analytic, analytic, iterations)
-     << kDifferencesText;
+     << NormTable(analytic, radii, iterations) << NormTable(idto, radii, iterations)
+     << CountText(forward, analytic, idto) << WhichNormText(forward)
+     << DetailTables(forward, idto, plain, ours, iterations) << Reading(forward, radii)
+     << Reading(analytic, radii) << Reading(idto, radii)
+     << ExampleModelText(example_forward, example_idto, idto, iterations) << kDifferencesText;
   result.notes.push_back("Contact stiffness and stiction velocity (spinner, paper's settings, " +
                          std::to_string(iterations) + " iterations): " + GridNote(forward) + "; " +
-                         GridNote(analytic) +
+                         GridNote(idto) +
                          ". They are not speed knobs here, but they set how far a solve gets.");
-  const double example_seconds = example_forward.seconds + example_analytic.seconds;
+  const double example_seconds = example_forward.seconds + example_idto.seconds;
   md << "Time of the "
-     << forward.solves + analytic.solves + example_forward.solves + example_analytic.solves + 16
-     << " solves: " << Num(forward.seconds + analytic.seconds + example_seconds + plain_seconds, 2)
+     << forward.solves + analytic.solves + idto.solves + example_forward.solves +
+            example_idto.solves + 16
+     << " solves: "
+     << Num(forward.seconds + analytic.seconds + idto.seconds + example_seconds + plain_seconds, 2)
      << " s (forward differences " << Num(forward.seconds, 2) << " s, analytic derivatives "
-     << Num(analytic.seconds, 2) << " s, " << forward.solves
-     << " solves each; idto's spinner example " << Num(example_seconds, 2)
-     << " s; idto as a user runs it " << Num(plain_seconds, 2) << " s).\n\n";
+     << Num(analytic.seconds, 2) << " s, with the constraint correction " << Num(idto.seconds, 2)
+     << " s, " << forward.solves << " solves each; idto's spinner example "
+     << Num(example_seconds, 2) << " s; idto as a user runs it " << Num(plain_seconds, 2)
+     << " s).\n\n";
   if (context.gnuplot) {
-    const Grid* const grids[2] = {&forward, &analytic};
+    const Grid* const grids[2] = {&forward, &idto};
     md << Figure(context, grids, iterations);
   }
   result.markdown = md.str();

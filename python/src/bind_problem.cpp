@@ -144,6 +144,7 @@ void BindSolverOptions(py::module_& m) {
       .def_readwrite("step_tolerance", &O::step_tolerance)
       .def_readwrite("fixed_iterations", &O::fixed_iterations)
       .def_readwrite("trial_derivatives", &O::trial_derivatives)
+      .def_readwrite("constraint_correction", &O::constraint_correction)
       .def_readwrite("kkt_extended_residual", &O::kkt_extended_residual)
       .def_readwrite("kkt_extended_threshold", &O::kkt_extended_threshold)
       .def_readwrite("verbosity", &O::verbosity)

@@ -66,6 +66,7 @@ void BindSummaries(py::module_& m) {
       .def_readonly("gradient_norm", &I::gradient_norm)
       .def_readonly("step_norm", &I::step_norm)
       .def_readonly("scaled_step_norm", &I::scaled_step_norm)
+      .def_readonly("correction_norm", &I::correction_norm)
       .def_readonly("trust_radius", &I::trust_radius)
       .def_readonly("ratio", &I::ratio)
       .def_readonly("accepted", &I::accepted)

@@ -9,13 +9,25 @@ namespace idto::config_internal {
 
 namespace {
 
-const std::vector<std::string> kSolverKeys = {
-    "max_iterations",   "num_threads",           "constraint_method",
-    "penalty_weight",   "derivative_method",     "finite_difference_step",
-    "scaling",          "initial_trust_radius",  "max_trust_radius",
-    "acceptance_ratio", "cost_tolerance",        "gradient_tolerance",
-    "step_tolerance",   "fixed_iterations",      "trial_derivatives",
-    "verbosity",        "kkt_extended_residual", "kkt_extended_threshold"};
+const std::vector<std::string> kSolverKeys = {"max_iterations",
+                                              "num_threads",
+                                              "constraint_method",
+                                              "penalty_weight",
+                                              "derivative_method",
+                                              "finite_difference_step",
+                                              "scaling",
+                                              "initial_trust_radius",
+                                              "max_trust_radius",
+                                              "acceptance_ratio",
+                                              "cost_tolerance",
+                                              "gradient_tolerance",
+                                              "step_tolerance",
+                                              "fixed_iterations",
+                                              "trial_derivatives",
+                                              "verbosity",
+                                              "kkt_extended_residual",
+                                              "kkt_extended_threshold",
+                                              "constraint_correction"};
 
 static_assert(static_cast<int>(ConstraintMethod::kNone) == 0 &&
                   static_cast<int>(ConstraintMethod::kPenalty) == 1 &&
@@ -51,6 +63,7 @@ void ConfigLoader::LoadSolver(const YAML::Node& node, const std::string& path) {
   o.initial_trust_radius = s.Positive("initial_trust_radius", o.initial_trust_radius);
   o.max_trust_radius = s.Positive("max_trust_radius", o.max_trust_radius);
   o.acceptance_ratio = s.NonNegative("acceptance_ratio", o.acceptance_ratio);
+  o.constraint_correction = s.NonNegative("constraint_correction", o.constraint_correction);
   o.cost_tolerance = s.NonNegative("cost_tolerance", o.cost_tolerance);
   o.gradient_tolerance = s.NonNegative("gradient_tolerance", o.gradient_tolerance);
   o.step_tolerance = s.NonNegative("step_tolerance", o.step_tolerance);

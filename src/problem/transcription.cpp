@@ -489,6 +489,7 @@ void Transcription::CalcHessian(const TrajectoryState& s, const TrajectoryDeriva
 
 void Transcription::CalcConstraints(const TrajectoryState& s, Eigen::VectorXd* h) const {
   const int nu = num_unactuated();
+  if (h->size() != N_ * nu) h->resize(N_ * nu);
   for (int j = 0; j < N_; ++j) {
     for (int u = 0; u < nu; ++u) (*h)(j * nu + u) = s.tau[j](unactuated_[u]);
   }
@@ -496,6 +497,11 @@ void Transcription::CalcConstraints(const TrajectoryState& s, Eigen::VectorXd* h
 
 double Transcription::Merit(const TrajectoryState& s, const Eigen::VectorXd& lambda) const {
   const int nu = num_unactuated();
+  if (lambda.size() != N_ * nu) {
+    ThrowInvalidArgument("Transcription::Merit", "lambda",
+                         std::to_string(lambda.size()) + " entries",
+                         std::to_string(N_ * nu) + " (num_steps x num_unactuated)");
+  }
   double sum = s.cost;
   for (int j = 0; j < N_; ++j) {
     for (int u = 0; u < nu; ++u) sum += lambda(j * nu + u) * s.tau[j](unactuated_[u]);
@@ -512,7 +518,7 @@ void Transcription::ConstraintBlock(const TrajectoryDerivatives& d, int j, int s
 void Transcription::CalcDenseConstraintJacobianTranspose(const TrajectoryDerivatives& d,
                                                          Eigen::MatrixXd* At) const {
   const int nu = num_unactuated();
-  At->setZero();
+  At->setZero(N_ * nq_, N_ * nu);
   for (int j = 0; j < N_; ++j) {
     for (int s = j - 1; s <= j + 1; ++s) {
       if (s < 1 || s > N_) continue;

@@ -660,6 +660,20 @@ void BandedKktSolver::Solve(const Eigen::VectorXd& g, const Eigen::VectorXd& h, 
   }
 }
 
+void BandedKktSolver::SolveUnrefined(const Eigen::VectorXd& g, const Eigen::VectorXd& h,
+                                     Eigen::VectorXd* p, Eigen::VectorXd* lambda) {
+  CheckSize("BandedKktSolver::SolveUnrefined", "g", g.size(), num_steps_ * n_, "N n");
+  CheckSize("BandedKktSolver::SolveUnrefined", "h", h.size(), num_steps_ * nu_, "N nu");
+  if (p->size() != num_steps_ * n_) p->resize(num_steps_ * n_);
+  if (lambda->size() != num_steps_ * nu_) lambda->resize(num_steps_ * nu_);
+  if (!status_.ok()) {
+    p->setZero();
+    lambda->setZero();
+    return;
+  }
+  SolveOnce(g, h, p, lambda);
+}
+
 void BandedKktSolver::FinishExtendedRefinement(const Eigen::VectorXd& g, const Eigen::VectorXd& h,
                                                double correction, int steps, Eigen::VectorXd* p,
                                                Eigen::VectorXd* lambda) {

@@ -66,6 +66,9 @@ bool SolverOptions::IsValid(std::string* why) const {
   if (!(acceptance_ratio >= 0 && acceptance_ratio < 0.25)) {
     return fail("acceptance_ratio", acceptance_ratio, "in [0, 0.25)");
   }
+  if (!(constraint_correction >= 0 && constraint_correction <= 10)) {
+    return fail("constraint_correction", constraint_correction, "in [0, 10] (0: none)");
+  }
   if (!(kkt_extended_threshold >= 0)) {
     return fail("kkt_extended_threshold", kkt_extended_threshold, ">= 0 (infinity: never)");
   }

@@ -72,7 +72,8 @@ class TrajectoryOptimizer::Impl {
     transcription_.SetNumThreads(options_.num_threads);
     transcription_.SetDerivativeMethod(options_.derivative_method, options_.finite_difference_step);
     if (lagrange() && h_.size() != N_ * nu_) {
-      h_ = lambda_ = Eigen::VectorXd::Zero(N_ * nu_);
+      h_ = lambda_ = linearized_h_ = correction_multipliers_ = Eigen::VectorXd::Zero(N_ * nu_);
+      zero_gradient_ = correction_ = Eigen::VectorXd::Zero(N_ * nq_);
       A_.Resize(N_, nq_, nu_);
       kkt_.Resize(N_, nq_, nu_);
     }
@@ -212,9 +213,10 @@ class TrajectoryOptimizer::Impl {
     s->trust_radius = trust_radius_;
     s->step_type = internal::CalcDoglegStep(p_newton_, p_cauchy_, D_, trust_radius_, &scratch_a_,
                                             &scratch_b_, &p_, &s->scaled_step_norm);
-    s->step_norm = p_.norm();
     internal::MultiplyInHalves(H_, p_, options_.num_threads, &scratch_a_);
-    const double predicted = -(g_merit_.dot(p_) + 0.5 * p_.dot(scratch_a_));
+    const double predicted =
+        CorrectOntoConstraints(-(g_merit_.dot(p_) + 0.5 * p_.dot(scratch_a_)), s);
+    s->step_norm = p_.norm();
     const Clock::time_point tc = Clock::now();
     const std::uint64_t kc = Ticks();
     ApplyStep();
@@ -233,6 +235,38 @@ class TrajectoryOptimizer::Impl {
                                                 options_.max_trust_radius);
     s->accepted = s->ratio > options_.acceptance_ratio;
     return predicted;
+  }
+
+  // SolverOptions::constraint_correction: a dogleg step short of the Newton step moves onto the
+  // linearized constraints h + A p = 0 by the correction c of least H-norm, A c = −(h + A p)
+  // (the KKT factorization's solve with g = 0, unrefined), scaled to |D⁻¹c| <=
+  // constraint_correction × Δ. Without it the violation falls only through Newton steps: the Cauchy
+  // direction follows the merit L + hᵀλ, which is blind to h (docs/solver.md, "Constraint
+  // correction"). predicted: the model's reduction for p_; returns that of the step kept, which is
+  // p_ + c unless the correction makes it non-positive.
+  double CorrectOntoConstraints(double predicted, IterationSummary* s) {
+    if (!lagrange() || s->step_type == DoglegStep::kNewton ||
+        !(options_.constraint_correction > 0.0)) {
+      return predicted;
+    }
+    A_.Multiply(p_, &linearized_h_);
+    linearized_h_ += h_;
+    kkt_.SolveUnrefined(zero_gradient_, linearized_h_, &correction_, &correction_multipliers_);
+    const double norm = correction_.cwiseQuotient(D_).norm();
+    const double limit = options_.constraint_correction * trust_radius_;
+    if (!(norm > 0.0) || !std::isfinite(norm)) return predicted;
+    const double alpha = std::min(1.0, limit / norm);
+    // The model's change from p to p + αc without a product with H: H c = −Aᵀν (the solve's
+    // first row), so pᵀHc = −(A p)ᵀν and cᵀHc = (h + A p)ᵀν (A c = −(h + A p)).
+    const double r_nu = linearized_h_.dot(correction_multipliers_);
+    const double ap_nu = r_nu - h_.dot(correction_multipliers_);
+    const double change =
+        alpha * g_merit_.dot(correction_) - alpha * ap_nu + 0.5 * alpha * alpha * r_nu;
+    const double corrected = predicted - change;
+    if (!(corrected > 0.0) || !std::isfinite(corrected)) return predicted;
+    p_ += alpha * correction_;
+    s->correction_norm = alpha * norm;
+    return corrected;
   }
 
   void ApplyStep() {
@@ -413,9 +447,12 @@ class TrajectoryOptimizer::Impl {
   // Cauchy points; scratch of the trust-region functions (no fixed meaning between calls).
   Eigen::VectorXd g_, g_merit_, D_, p_, p_newton_, p_cauchy_, scratch_a_, scratch_b_;
   Eigen::VectorXd h_, lambda_;  // N n_u: constraints at x_ and their multipliers
-  double merit_{0.0};           // L(x_) (+ h^T lambda with multipliers)
-  double trial_merit_{0.0};     // the same at the trial point
-  double trust_radius_{0.1};    // scaled coordinates
+  // The constraint correction (CorrectOntoConstraints): zeros (N nq), h + A p (N nu), the
+  // correction c (N nq) and its KKT solve's multipliers (N nu, unused).
+  Eigen::VectorXd zero_gradient_, linearized_h_, correction_, correction_multipliers_;
+  double merit_{0.0};         // L(x_) (+ h^T lambda with multipliers)
+  double trial_merit_{0.0};   // the same at the trial point
+  double trust_radius_{0.1};  // scaled coordinates
 };
 
 TrajectoryOptimizer::TrajectoryOptimizer(const Model& model, const ProblemDefinition& problem,

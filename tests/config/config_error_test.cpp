@@ -196,6 +196,10 @@ TEST(ConfigErrorTest, InvalidSolverOptions) {
       Loading(With("max_iterations: 10", "initial_trust_radius: 10\n  max_trust_radius: 1")),
       ThrowsMessage<FileError>(
           AllOf(HasSubstr("test.yaml: solver: invalid options"), HasSubstr("max_trust_radius"))));
+  EXPECT_THAT(Loading(With("max_iterations: 10", "constraint_correction: 20")),
+              ThrowsMessage<FileError>(AllOf(HasSubstr("test.yaml: solver: invalid options"),
+                                             HasSubstr("constraint_correction"), HasSubstr("20"),
+                                             HasSubstr("in [0, 10]"))));
 }
 
 TEST(ConfigErrorTest, Urdf) {

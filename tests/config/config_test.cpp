@@ -178,6 +178,7 @@ TEST(ConfigTest, FullFixture) {
   EXPECT_DOUBLE_EQ(s.initial_trust_radius, 0.5);
   EXPECT_DOUBLE_EQ(s.max_trust_radius, 100);
   EXPECT_DOUBLE_EQ(s.acceptance_ratio, 0.1);
+  EXPECT_DOUBLE_EQ(s.constraint_correction, 0.25);  // the default is 0.5
   EXPECT_DOUBLE_EQ(s.cost_tolerance, 1e-8);
   EXPECT_DOUBLE_EQ(s.gradient_tolerance, 0);
   EXPECT_DOUBLE_EQ(s.step_tolerance, 1e-9);

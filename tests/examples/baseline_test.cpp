@@ -8,7 +8,10 @@
 // replaced the dense multipliers; all rows were re-recorded when the analytic derivatives became
 // the default; the AVX2 file was added with the AVX2/FMA kernels; the "_trial_derivatives" files
 // were added with SolverOptions::trial_derivatives (the default), the files without it are now
-// solved with that option off (separate passes, unchanged bit for bit). A change of these numbers
+// solved with that option off (separate passes, unchanged bit for bit); with
+// SolverOptions::constraint_correction (the default since 2026-11-30) the "_trial_derivatives"
+// files' Lagrange rows were re-recorded, and the files without it are solved with the correction
+// off too (the earlier solver, unchanged bit for bit). A change of these numbers
 // is a change of the method, not a refactoring: record new values only on purpose, with
 //   IDTO_RECORD_BASELINE=tests/data/baseline ./build/tests/idto_examples_test
 //     --gtest_filter=*Baseline*EveryExample*
@@ -38,11 +41,12 @@ using test::kShareDirs;
 
 const char* kBaselineDir = IDTO_TEST_DATA_DIR "/baseline";
 
-// trial_derivatives: the default (each trial point evaluated with its derivatives); without it
-// the solver evaluates and differentiates in separate passes, bit for bit the solver before
-// trial derivatives existed (the files without "_trial_derivatives").
-std::string BaselineFileName(test::KernelPath path, bool trial_derivatives) {
-  return std::string("solver_baseline") + (trial_derivatives ? "_trial_derivatives" : "") +
+// defaults: the default options (the files with "_trial_derivatives": each trial point evaluated
+// with its derivatives, dogleg steps corrected onto the linearized constraints); without them the
+// solver evaluates and differentiates in separate passes and takes the dogleg step as it is, bit
+// for bit the solver before either option existed (the files without "_trial_derivatives").
+std::string BaselineFileName(test::KernelPath path, bool defaults) {
+  return std::string("solver_baseline") + (defaults ? "_trial_derivatives" : "") +
          (path == test::KernelPath::kAvx2 ? "_avx2" : "") + ".txt";
 }
 
@@ -56,10 +60,13 @@ struct Result {
 };
 
 Result SolveExample(const std::string& name, ConstraintMethod method, int threads = 1,
-                    int iterations = 15, bool trial_derivatives = true) {
+                    int iterations = 15, bool defaults = true) {
   ExampleConfig config = LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
   config.solver.max_iterations = iterations;
-  config.solver.trial_derivatives = trial_derivatives;
+  if (!defaults) {
+    config.solver.trial_derivatives = false;
+    config.solver.constraint_correction = 0.0;
+  }
   config.solver.num_threads = threads;
   config.solver.constraint_method = method;
   TrajectoryOptimizer optimizer(config.model, config.problem, config.solver);
@@ -92,7 +99,7 @@ std::map<std::string, Result> ReadBaseline(const std::string& file) {
 }
 
 void CompareWithBaseline(const std::string& file, const std::vector<ConstraintMethod>& methods,
-                         bool trial_derivatives);
+                         bool defaults);
 
 class BaselineKernels : public test::KernelPathTest {};
 IDTO_INSTANTIATE_KERNEL_PATHS(BaselineKernels);
@@ -101,15 +108,14 @@ TEST_P(BaselineKernels, EveryExampleMatchesThePreRedesignSolver) {
   const std::vector<ConstraintMethod> methods = {ConstraintMethod::kPenalty,
                                                  ConstraintMethod::kLagrangeMultipliers};
   if (const char* record = std::getenv("IDTO_RECORD_BASELINE")) {
-    for (const bool trial_derivatives : {false, true}) {
-      const std::string path =
-          std::string(record) + "/" + BaselineFileName(GetParam(), trial_derivatives);
+    for (const bool defaults : {false, true}) {
+      const std::string path = std::string(record) + "/" + BaselineFileName(GetParam(), defaults);
       std::FILE* f = std::fopen(path.c_str(), "w");
       ASSERT_NE(f, nullptr) << path;
       std::fprintf(f, "# name method final_cost nq q_N (15 iterations, 1 thread)\n");
       for (const std::string& name : kExamples) {
         for (ConstraintMethod m : methods) {
-          const Result r = SolveExample(name, m, 1, 15, trial_derivatives);
+          const Result r = SolveExample(name, m, 1, 15, defaults);
           std::fprintf(f, "%s %.17g %d", Key(name, m).c_str(), r.final_cost,
                        static_cast<int>(r.q_final.size()));
           for (int i = 0; i < r.q_final.size(); ++i) std::fprintf(f, " %.17g", r.q_final(i));
@@ -120,15 +126,15 @@ TEST_P(BaselineKernels, EveryExampleMatchesThePreRedesignSolver) {
     }
     GTEST_SKIP() << "recorded in " << record;
   }
-  for (const bool trial_derivatives : {false, true}) {
+  for (const bool defaults : {false, true}) {
     const std::string file =
-        std::string(kBaselineDir) + "/" + BaselineFileName(GetParam(), trial_derivatives);
-    CompareWithBaseline(file, methods, trial_derivatives);
+        std::string(kBaselineDir) + "/" + BaselineFileName(GetParam(), defaults);
+    CompareWithBaseline(file, methods, defaults);
   }
 }
 
 void CompareWithBaseline(const std::string& file, const std::vector<ConstraintMethod>& methods,
-                         bool trial_derivatives) {
+                         bool defaults) {
   SCOPED_TRACE(file);
   const std::map<std::string, Result> baseline = ReadBaseline(file);
   ASSERT_EQ(baseline.size(), kExamples.size() * methods.size()) << file;
@@ -136,7 +142,7 @@ void CompareWithBaseline(const std::string& file, const std::vector<ConstraintMe
     for (ConstraintMethod m : methods) {
       SCOPED_TRACE(Key(name, m));
       const Result& expected = baseline.at(Key(name, m));
-      const Result r = SolveExample(name, m, 1, 15, trial_derivatives);
+      const Result r = SolveExample(name, m, 1, 15, defaults);
       EXPECT_LE(std::abs(r.final_cost - expected.final_cost),
                 1e-9 * std::max(1.0, std::abs(expected.final_cost)))
           << r.final_cost << " vs " << expected.final_cost;

@@ -4,6 +4,8 @@
 // the source tree, a trajectory at rest, and a task metric by name.
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,22 @@ inline const std::vector<std::string> kShareDirs = {IDTO_SOURCE_DIR};
 /// examples/NAME/NAME.yaml of the source tree, loaded (throws as LoadExampleConfig does).
 inline ExampleConfig LoadExample(const std::string& name) {
   return LoadExampleConfig(FindExampleConfig(name, kShareDirs), kShareDirs);
+}
+
+/// The spinner example with the reference implementation's model (models/spinner_reference.urdf,
+/// the paper's Table 4 in docs/tradeoffs.md) in place of the example's.
+inline ExampleConfig LoadReferenceSpinner() {
+  const std::string path = FindExampleConfig("spinner", kShareDirs);
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string yaml = text.str();
+  const std::string from = "urdf: spinner.urdf";
+  const size_t at = yaml.find(from);
+  if (at == std::string::npos) ADD_FAILURE() << path << " has no '" << from << "'";
+  if (at != std::string::npos) yaml.replace(at, from.size(), "urdf: spinner_reference.urdf");
+  return LoadExampleConfigString(yaml, path, std::string(IDTO_SOURCE_DIR) + "/examples/spinner",
+                                 kShareDirs);
 }
 
 /// q_init at every one of the N + 1 knots, zero velocities and generalized forces.

@@ -84,17 +84,7 @@ TEST(SpinnerTaskTest, AngleGainedAndPassiveSpinner) {
 // Table 4 in docs/tradeoffs.md) under spinner.yaml: the facts its header lists hold, and the
 // example's task is achieved on it.
 TEST(SpinnerTaskTest, ReferenceModelHasTheReferenceGeometryAndSolves) {
-  const std::string path = FindExampleConfig("spinner", kShareDirs);
-  std::ifstream in(path);
-  std::stringstream text;
-  text << in.rdbuf();
-  std::string yaml = text.str();
-  const std::string from = "urdf: spinner.urdf";
-  const size_t at = yaml.find(from);
-  ASSERT_NE(at, std::string::npos);
-  yaml.replace(at, from.size(), "urdf: spinner_reference.urdf");
-  const ExampleConfig config = LoadExampleConfigString(
-      yaml, path, std::string(IDTO_SOURCE_DIR) + "/examples/spinner", kShareDirs);
+  const ExampleConfig config = test::LoadReferenceSpinner();
   const Model& model = config.model;
   ASSERT_EQ(model.nq(), 3);
   for (const char* joint : {"finger_shoulder", "finger_elbow", "spinner_axle"}) {

@@ -88,9 +88,9 @@ def test_problem_and_options_attributes(spinner):
 
     s = idto.SolverOptions()
     assert s.max_iterations == 100 and s.is_valid() and s.invalid_reason() == ""
-    assert s.trial_derivatives
+    assert s.trial_derivatives and s.constraint_correction == 0.5
     for name, value in [("num_threads", 2), ("penalty_weight", 1.0), ("fixed_iterations", True),
-                        ("trial_derivatives", False),
+                        ("trial_derivatives", False), ("constraint_correction", 2.0),
                         ("finite_difference_step", 1e-6), ("initial_trust_radius", 0.2),
                         ("max_trust_radius", 10.0), ("acceptance_ratio", 0.1),
                         ("cost_tolerance", 0.0), ("gradient_tolerance", 0.0),
@@ -120,7 +120,8 @@ def test_solve_shapes_summary_and_trajectory(spinner):
     assert summary.costs.shape == (5,) and summary.costs[0] == summary.log[0].cost
     it = summary.log[-1]
     assert isinstance(it, idto.IterationSummary) and it.iteration == 4
-    for name in ("merit", "gradient_norm", "step_norm", "scaled_step_norm", "trust_radius",
+    for name in ("merit", "gradient_norm", "step_norm", "scaled_step_norm", "correction_norm",
+                 "trust_radius",
                  "ratio", "constraint_violation", "trial_cost", "regularization",
                  "time_derivatives", "time_cost", "time_hessian", "time_factorization",
                  "time_multipliers", "time_total", "time_contact"):

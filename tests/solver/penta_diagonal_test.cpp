@@ -8,6 +8,7 @@
 #include "idto/core/errors.hpp"
 #include "idto/math/penta_diagonal_matrix.hpp"
 #include "math/split_penta_diagonal_cholesky.hpp"
+#include "solver/banded_test_support.hpp"
 #include "support/eigen_matchers.hpp"
 #include "support/kernel_paths.hpp"
 #include "support/random.hpp"
@@ -15,22 +16,10 @@
 namespace idto {
 namespace {
 
-// A random SPD pentadiagonal matrix with a prescribed condition number: H = J^T J + shift,
-// with J block-banded, then rescaled eigen-spectrum through a diagonal similarity.
+// A random SPD pentadiagonal matrix: L D Lᵀ with L block-banded and D spanning [1, condition]
+// on a log scale (test::RandomBandedSpd), stored by blocks.
 PentaDiagonalMatrix RandomSpd(int N, int n, double condition, test::Random* rng) {
-  // Build a banded factor L (lower, bandwidth 2 blocks) with a well-conditioned diagonal, then
-  // H = L D L^T with D spanning [1, condition] on a log scale.
-  const int size = N * n;
-  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(size, size);
-  for (int k = 0; k < N; ++k) {
-    for (int j = std::max(0, k - 2); j <= k; ++j) {
-      L.block(k * n, j * n, n, n) = rng->Matrix(n, n, -0.3, 0.3);
-    }
-    L.block(k * n, k * n, n, n).diagonal().array() += 2.0;
-  }
-  Eigen::VectorXd d(size);
-  for (int i = 0; i < size; ++i) d(i) = std::pow(condition, rng->Uniform(0.0, 1.0));
-  const Eigen::MatrixXd Hd = L * d.asDiagonal() * L.transpose();
+  const Eigen::MatrixXd Hd = test::RandomBandedSpd(N, n, condition, rng);
   PentaDiagonalMatrix H(N, n);
   for (int k = 0; k < N; ++k) {
     H.C(k) = Hd.block(k * n, k * n, n, n);

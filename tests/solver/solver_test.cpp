@@ -335,6 +335,22 @@ TEST(Solver, KktExtendedThresholdIsValidated) {
   }
 }
 
+TEST(Solver, ConstraintCorrectionIsValidated) {
+  SolverOptions o;
+  std::string why;
+  EXPECT_EQ(o.constraint_correction, 0.5);
+  for (double good : {0.0, 1e-3, 10.0}) {
+    o.constraint_correction = good;
+    EXPECT_TRUE(o.IsValid(&why)) << why;
+  }
+  for (double bad : {-1e-12, 10.5, std::numeric_limits<double>::infinity(),
+                     std::numeric_limits<double>::quiet_NaN()}) {
+    o.constraint_correction = bad;
+    EXPECT_FALSE(o.IsValid(&why));
+    EXPECT_NE(why.find("constraint_correction"), std::string::npos) << why;
+  }
+}
+
 TEST(Solver, ResultsAreBitwiseIdenticalForOneAndTwoThreads) {
   const Model model = BallAndFinger();
   const ProblemDefinition p = BallAndFingerProblem(model, 8);

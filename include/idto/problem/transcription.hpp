@@ -134,15 +134,17 @@ class Transcription {
   void CalcGradientAndHessian(const TrajectoryState& state,
                               const TrajectoryDerivatives& derivatives, Eigen::VectorXd* g,
                               PentaDiagonalMatrix* H);
-  /// h (N n_u): the unactuated rows of tau_0..tau_{N-1}, preallocated.
+  /// h (N n_u): the unactuated rows of tau_0..tau_{N-1} (resized when its size differs; no
+  /// allocation when it is already N n_u).
   void CalcConstraints(const TrajectoryState& state, Eigen::VectorXd* h) const;
   /// The merit L(q) + lambda^T h(q) of an evaluated state for multipliers lambda (N n_u),
-  /// summed onto the cost in step order.
+  /// summed onto the cost in step order. Throws InvalidArgument when lambda is not N n_u.
   double Merit(const TrajectoryState& state, const Eigen::VectorXd& lambda) const;
   /// Constraint Jacobian block d h_j / d q_s (n_u x nq) for s in {j-1, j, j+1} ∩ [1, N].
   void ConstraintBlock(const TrajectoryDerivatives& derivatives, int j, int s,
                        Eigen::Ref<Eigen::MatrixXd> block) const;
-  /// (dh / dq)^T as a dense (N nq) x (N n_u) matrix (a test oracle; the solver uses blocks).
+  /// (dh / dq)^T as a dense (N nq) x (N n_u) matrix (a test oracle; the solver uses blocks;
+  /// resized).
   void CalcDenseConstraintJacobianTranspose(const TrajectoryDerivatives& derivatives,
                                             Eigen::MatrixXd* At) const;
 

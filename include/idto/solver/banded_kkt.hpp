@@ -226,6 +226,13 @@ class BandedKktSolver {
   void Solve(const Eigen::VectorXd& g, const Eigen::VectorXd& h, Eigen::VectorXd* p,
              Eigen::VectorXd* lambda);
 
+  /// Solve without iterative refinement: one forward and one backward sweep (relative error
+  /// about κ ε, κ the system's condition number), for right-hand sides that need no more than
+  /// that (the solver's constraint correction). Same sizes and status rule as Solve; leaves
+  /// last_solve_needed_extended() as it was.
+  void SolveUnrefined(const Eigen::VectorXd& g, const Eigen::VectorXd& h, Eigen::VectorXd* p,
+                      Eigen::VectorXd* lambda);
+
   /// The residual of the unfactored system for a candidate (p, λ): rp = −g − H p − Aᵀλ (N n),
   /// rl = −h − A p (N nu); with extended_residual() in double-double, rounded once. Uses the H and
   /// A of the last Factor. Outputs resized.

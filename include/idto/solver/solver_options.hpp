@@ -65,6 +65,14 @@ struct SolverOptions {
   double initial_trust_radius{1e-1};  ///< in scaled coordinates
   double max_trust_radius{1e3};
   double acceptance_ratio{0.05};  ///< eta: accept the step when rho > eta
+  /// kLagrangeMultipliers: a dogleg step shorter than the Newton step does not satisfy the
+  /// linearized constraints h + A p = 0 (its Cauchy part follows the merit's gradient, which
+  /// does not see the violation). The step is then corrected onto them: p + c, with c the
+  /// correction of least H-norm (A c = −(h + A p), one more solve with the KKT factorization),
+  /// scaled down to |D⁻¹ c| <= constraint_correction × the trust radius. A correction that makes
+  /// the predicted reduction non-positive is dropped. 0: no correction (the reference
+  /// implementation's step). In [0, 10] (docs/solver.md, "Constraint correction").
+  double constraint_correction{0.5};
 
   /// Convergence (all on by default; set a tolerance to 0 to disable it):
   double cost_tolerance{1e-10};      ///< |L_new - L| / max(|L|, 1) after an accepted step

@@ -30,9 +30,12 @@ struct IterationSummary {
   double merit{0.0};             ///< L + h^T lambda (= cost without multipliers)
   double gradient_norm{0.0};     ///< |g| (of the merit with multipliers)
   double step_norm{0.0};         ///< |p|
-  double scaled_step_norm{0.0};  ///< |D^-1 p|
-  double trust_radius{0.0};      ///< radius used for this step
-  double ratio{0.0};             ///< rho = actual / predicted reduction
+  double scaled_step_norm{0.0};  ///< |D^-1 p| of the dogleg step (before any correction)
+  /// |D^-1 c| of the constraint correction added to the dogleg step (Lagrange method,
+  /// SolverOptions::constraint_correction); 0 when none was added. step_norm includes it.
+  double correction_norm{0.0};
+  double trust_radius{0.0};  ///< radius used for this step
+  double ratio{0.0};         ///< rho = actual / predicted reduction
   bool accepted{false};
   DoglegStep step_type{DoglegStep::kNone};
   double constraint_violation{0.0};  ///< sum of squared unactuated generalized forces
