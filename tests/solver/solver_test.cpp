@@ -423,15 +423,20 @@ TEST(Solver, AnIterationAllocatesNothingAfterTheFirst) {
     TrajectoryOptimizer opt(model, p, o);
     std::unique_ptr<test::ScopedAllocationCounter> counter;
     long allocations = -1;
+    int corrected = 0;  // iterations 1-4 with a constraint correction (Lagrange)
     opt.AddCallback([&](const IterationSummary& s) {
       if (s.iteration == 1) counter = std::make_unique<test::ScopedAllocationCounter>();
       if (s.iteration == 5) allocations = counter->count();
+      if (s.iteration >= 1 && s.iteration <= 4 && s.correction_norm > 0.0) ++corrected;
       return CallbackReturn::kContinue;
     });
     Trajectory sol;
     opt.Solve(PerturbedGuess(model, p, 0.01, 5), &sol);
     counter.reset();
     EXPECT_EQ(allocations, 0) << static_cast<int>(method);
+    if (method == ConstraintMethod::kLagrangeMultipliers) {
+      EXPECT_GT(corrected, 0);  // the correction ran inside the counted iterations
+    }
   }
 }
 
