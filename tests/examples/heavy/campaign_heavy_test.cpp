@@ -43,7 +43,8 @@ TEST(CampaignHeavy, Spinner50Runs) {
 TEST(CampaignHeavy, Quadruped50Runs) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
   // docs/mpc.md: 50 of 50 at this seed with session 19's flat controller (planner smoothing
-  // 2 mm; 591 of 600 on seeds 5001-16001), 48 of 50 on the hills (session 19: ground 2 mm).
+  // 2 mm; 591 of 600 on seeds 5001-16001), 48 of 50 on the hills (session 19: ground 2 mm); 50
+  // of 50 with session 36's flat controller (Lagrange multipliers).
   EXPECT_GE(CampaignSuccesses("quadruped", 50, 1), 48);
 }
 
@@ -51,7 +52,8 @@ TEST(CampaignHeavy, QuadrupedHills50Runs) {
   if (!sim::HaveMujoco()) GTEST_SKIP() << "idto was built without MuJoCo";
   // docs/mpc.md: 49 of 50 at this seed with session 29's controller (the planner's friction 1.3
   // on the hills, a 25 ms grid) and the elliptic-cone plant; 45 with session 21's controller,
-  // which this threshold would fail, and 50 with that controller and the pyramidal cone.
+  // which this threshold would fail, and 50 with that controller and the pyramidal cone; 50 with
+  // session 36's (Lagrange multipliers with the constraint correction).
   EXPECT_GE(CampaignSuccesses("quadruped_hills", 50, 1), 47);
 }
 
