@@ -448,7 +448,7 @@ class TrajectoryOptimizer::Impl {
   Eigen::VectorXd g_, g_merit_, D_, p_, p_newton_, p_cauchy_, scratch_a_, scratch_b_;
   Eigen::VectorXd h_, lambda_;  // N n_u: constraints at x_ and their multipliers
   // The constraint correction (CorrectOntoConstraints): zeros (N nq), h + A p (N nu), the
-  // correction c (N nq) and its KKT solve's multipliers (N nu, unused).
+  // correction c (N nq) and its KKT solve's multipliers ν (N nu; H c = −Aᵀν).
   Eigen::VectorXd zero_gradient_, linearized_h_, correction_, correction_multipliers_;
   double merit_{0.0};         // L(x_) (+ h^T lambda with multipliers)
   double trial_merit_{0.0};   // the same at the trial point
