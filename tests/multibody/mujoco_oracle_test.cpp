@@ -23,7 +23,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <string>
 #include <vector>
 
@@ -363,46 +362,32 @@ TEST(MujocoOracle, UrdfStringAllBaseTypes) {
   CompareWithMujoco("urdf planar", ParseUrdfString(kOracleUrdf, options));
 }
 
-bool ModelFileExists(const std::string& path) { return std::ifstream(path).good(); }
-
 std::string ModelPath(const std::string& file) {
   return std::string(IDTO_SOURCE_DIR) + "/models/" + file;
 }
 
+// Every model file compared here ships in models/: a missing one fails (ParseUrdfFile throws
+// with the path), it is never skipped.
 TEST(MujocoOracle, ProjectModels) {
-  const std::string arm = ModelPath("arm7.urdf");
   const std::string quadruped = ModelPath("quadruped.urdf");
-  const std::string hand = ModelPath("allegro_hand.urdf");
-  const std::string ball = ModelPath("ball.urdf");
-  int compared = 0;
-  if (ModelFileExists(arm)) {
-    CompareWithMujoco("arm7", ParseUrdfFile(arm));
-    ++compared;
-  }
-  if (ModelFileExists(quadruped)) {
-    UrdfOptions options;
-    options.base = BaseType::kFloating;
-    options.X_WB = TiltedPose();
-    CompareWithMujoco("quadruped floating", ParseUrdfFile(quadruped, options));
-    options.base = BaseType::kPlanar;
-    options.planar_normal = Eigen::Vector3d(0, -1, 0);
-    CompareWithMujoco("quadruped planar", ParseUrdfFile(quadruped, options));
-    ++compared;
-  }
-  if (ModelFileExists(hand) && ModelFileExists(ball)) {
-    ModelBuilder builder("hand_and_ball");
-    UrdfOptions hand_options;
-    hand_options.X_WB = TiltedPose();
-    AddUrdfFile(hand, hand_options, &builder);
-    UrdfOptions ball_options;
-    ball_options.base = BaseType::kFloating;
-    ball_options.prefix = "ball_";
-    ball_options.X_WB.translation() = Eigen::Vector3d(0.05, 0.0, 0.1);
-    AddUrdfFile(ball, ball_options, &builder);
-    CompareWithMujoco("allegro hand + ball", builder.Build());
-    ++compared;
-  }
-  if (compared == 0) GTEST_SKIP() << "no model files in " << IDTO_SOURCE_DIR << "/models";
+  CompareWithMujoco("arm7", ParseUrdfFile(ModelPath("arm7.urdf")));
+  UrdfOptions options;
+  options.base = BaseType::kFloating;
+  options.X_WB = TiltedPose();
+  CompareWithMujoco("quadruped floating", ParseUrdfFile(quadruped, options));
+  options.base = BaseType::kPlanar;
+  options.planar_normal = Eigen::Vector3d(0, -1, 0);
+  CompareWithMujoco("quadruped planar", ParseUrdfFile(quadruped, options));
+  ModelBuilder builder("hand_and_ball");
+  UrdfOptions hand_options;
+  hand_options.X_WB = TiltedPose();
+  AddUrdfFile(ModelPath("allegro_hand.urdf"), hand_options, &builder);
+  UrdfOptions ball_options;
+  ball_options.base = BaseType::kFloating;
+  ball_options.prefix = "ball_";
+  ball_options.X_WB.translation() = Eigen::Vector3d(0.05, 0.0, 0.1);
+  AddUrdfFile(ModelPath("ball.urdf"), ball_options, &builder);
+  CompareWithMujoco("allegro hand + ball", builder.Build());
 }
 
 // ------------------------------------------------------------------------------------------------

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <limits>
 #include <memory>
 #include <string>
@@ -106,9 +105,8 @@ std::string ModelPath(const std::string& file) {
   return std::string(IDTO_SOURCE_DIR) + "/models/" + file;
 }
 
-// The quadruped on a ground half-space, standing (examples/quadruped), or nothing when the model
-// file is missing.
-bool QuadrupedModel(Model* model, Eigen::VectorXd* q_stand) {
+// The quadruped on a ground half-space, standing (examples/quadruped).
+void QuadrupedModel(Model* model, Eigen::VectorXd* q_stand) {
   // A shipped file: when it is missing, ParseUrdf throws and the test fails (never skips).
   const std::string path = ModelPath("quadruped.urdf");
   ModelBuilder builder("quadruped_scene");
@@ -123,7 +121,6 @@ bool QuadrupedModel(Model* model, Eigen::VectorXd* q_stand) {
     (*q_stand)(model->GetPositionStart(std::string(leg) + "_hip_joint")) = -0.8;
     (*q_stand)(model->GetPositionStart(std::string(leg) + "_knee_joint")) = 1.6;
   }
-  return true;
 }
 
 // A rod spinning about a fixed axis without gravity: I v' = -d v.
@@ -434,8 +431,7 @@ TEST(BuiltinPlant, QuadrupedStandsUnderPdControl) {
   // (feet with an apparent mass of 9 g) stays stable at 1 ms and the robot comes to rest.
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand))
-    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  QuadrupedModel(&model, &q_stand);
   q_stand(6) += 0.01;
   BuiltinPlantOptions options;
   options.pairs.included_pairs = {{"ground", "*"}};
@@ -463,8 +459,7 @@ TEST(BuiltinPlant, ExplicitSchemeDivergesOnTheQuadrupedAndSaysSo) {
   // explicit stability limit at 1 ms. The plant throws and keeps the last finite state.
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand))
-    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  QuadrupedModel(&model, &q_stand);
   q_stand(6) += 0.01;
   BuiltinPlantOptions options;
   options.implicit_contact = false;
@@ -498,8 +493,7 @@ TEST(BuiltinPlant, AdvanceDoesNotAllocate) {
   if (!test::AllocationCountingAvailable()) GTEST_SKIP() << "malloc is owned by a sanitizer";
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand))
-    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  QuadrupedModel(&model, &q_stand);
   for (const bool implicit : {true, false}) {
     BuiltinPlantOptions options;
     options.implicit_contact = implicit;
@@ -848,14 +842,12 @@ TEST(MujocoPlant, ExportedModelHasIdtosDynamics) {
   CompareExportedDynamics("random tree", RandomTreeModel(44, o), options, 0.0, 1e-8);
   Model quadruped;
   Eigen::VectorXd q_stand;
-  if (QuadrupedModel(&quadruped, &q_stand)) {
-    options.pairs.included_pairs = {{"ground", "*"}};
-    CompareExportedDynamics("quadruped", quadruped, options, 3.0, 1e-8);
-  }
+  QuadrupedModel(&quadruped, &q_stand);
+  options.pairs.included_pairs = {{"ground", "*"}};
+  CompareExportedDynamics("quadruped", quadruped, options, 3.0, 1e-8);
+  // Shipped files: a missing one fails (ParseUrdfFile throws with its path).
   for (const char* file : {"spinner.urdf", "hopper.urdf", "acrobot.urdf"}) {
-    const std::string path = ModelPath(file);
-    if (!std::ifstream(path).good()) continue;
-    const Model model = ParseUrdfFile(path);
+    const Model model = ParseUrdfFile(ModelPath(file));
     CompareExportedDynamics(file, model, MujocoPlantOptions{}, 0.0, 1e-8);
   }
 }
@@ -949,8 +941,7 @@ TEST(MujocoPlant, DisturbancePushesTheBallAlongTheForce) {
 TEST(MujocoPlant, QuadrupedStandsUnderPdControl) {
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand))
-    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  QuadrupedModel(&model, &q_stand);
   MujocoPlantOptions options;
   options.pairs.included_pairs = {{"ground", "*"}};
   std::unique_ptr<Plant> plant = sim::MakeMujocoPlant(model, options);
@@ -972,8 +963,7 @@ TEST(MujocoPlant, AdvanceDoesNotAllocate) {
   if (!test::AllocationCountingAvailable()) GTEST_SKIP() << "malloc is owned by a sanitizer";
   Model model;
   Eigen::VectorXd q_stand;
-  if (!QuadrupedModel(&model, &q_stand))
-    GTEST_FAIL() << "models/quadruped.urdf (shipped) not found";
+  QuadrupedModel(&model, &q_stand);
   std::unique_ptr<Plant> plant = sim::MakeMujocoPlant(model, {});
   plant->Reset(q_stand, Eigen::VectorXd::Zero(model.nv()));
   const Eigen::VectorXd u = Eigen::VectorXd::Constant(model.nv(), 0.1);

@@ -1,5 +1,6 @@
 // The viewer in a real browser (ctest label "browser"): headless chromium with software WebGL
-// opens generated pages. Skipped, with the reason, when chromium is not installed.
+// opens generated pages. Skipped, with the reason, when chromium is not installed, except where
+// IDTO_REQUIRE_OPTIONAL_DEPS is set (CI: scripts/common.sh), where a missing browser fails.
 //
 // Checks: no console messages and no errors caught by the page; no network request (the page's
 // Content-Security-Policy blocks any, a blocked one is an error, and the page lists no loaded
@@ -11,6 +12,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -32,6 +34,10 @@ class BrowserTest : public ::testing::Test {
  protected:
   void SetUp() override {
     chromium_ = test::ChromiumPath();
+    if (chromium_.empty() && std::getenv("IDTO_REQUIRE_OPTIONAL_DEPS") != nullptr) {
+      GTEST_FAIL() << "chromium not found (/usr/bin/chromium or $IDTO_CHROMIUM) and "
+                      "IDTO_REQUIRE_OPTIONAL_DEPS is set: the browser tests must run";
+    }
     if (chromium_.empty()) {
       GTEST_SKIP() << "chromium not found (/usr/bin/chromium or $IDTO_CHROMIUM): install it with "
                       "scripts/setup-deps to run the viewer's browser tests";
