@@ -61,8 +61,14 @@ TEST(ConfigTest, BaseConfiguration) {
   EXPECT_FALSE(config.mpc.has_value());
 }
 
-TEST(ConfigTest, FullFixture) {
-  const ExampleConfig config = LoadExampleConfig(FixturePath("full.yaml"), kShareDirs);
+// fixtures/full.yaml, which sets every key, loaded once for the FullFixture* tests.
+const ExampleConfig& FullConfig() {
+  static const ExampleConfig config = LoadExampleConfig(FixturePath("full.yaml"), kShareDirs);
+  return config;
+}
+
+TEST(ConfigTest, FullFixtureScene) {
+  const ExampleConfig& config = FullConfig();
   EXPECT_EQ(config.name, "full_scene");
   EXPECT_EQ(config.description, "Acrobot and ball");
   EXPECT_EQ(config.task_success, "never");
@@ -104,9 +110,10 @@ TEST(ConfigTest, FullFixture) {
   const GeometryInstance& rod = geometries[model.GetGeometryIndex("rod")];
   ASSERT_TRUE(std::holds_alternative<Capsule>(rod.shape));
   EXPECT_DOUBLE_EQ(std::get<Capsule>(rod.shape).length, 0.8);
+}
 
-  // Contact.
-  const ProblemDefinition& p = config.problem;
+TEST(ConfigTest, FullFixtureContact) {
+  const ProblemDefinition& p = FullConfig().problem;
   EXPECT_TRUE(p.enable_contact);
   EXPECT_DOUBLE_EQ(p.contact.parameters.stiffness, 500);
   EXPECT_DOUBLE_EQ(p.contact.parameters.smoothing, 0.005);
@@ -127,8 +134,11 @@ TEST(ConfigTest, FullFixture) {
   EXPECT_EQ(p.contact.overrides[0].friction_coefficient, 0.9);
   EXPECT_EQ(p.contact.overrides[0].stiffness, 800);
   EXPECT_FALSE(p.contact.overrides[0].smoothing.has_value());
+}
 
-  // Problem.
+TEST(ConfigTest, FullFixtureProblemAndInitialGuess) {
+  const ExampleConfig& config = FullConfig();
+  const ProblemDefinition& p = config.problem;
   EXPECT_DOUBLE_EQ(p.time_step, 0.02);
   EXPECT_EQ(p.num_steps, 10);
   Eigen::VectorXd q_init(9);
@@ -166,7 +176,15 @@ TEST(ConfigTest, FullFixture) {
   EXPECT_EQ(*p.unactuated_dofs, (std::vector<int>{0, 2, 3, 4, 5, 6, 7}));
   EXPECT_EQ(config.initial_guess, InitialGuessType::kNominal);
 
-  // Solver: every key.
+  // The nominal initial guess.
+  const std::vector<Eigen::VectorXd> guess = MakeInitialGuess(config);
+  ASSERT_EQ(guess.size(), 11u);
+  EXPECT_EIGEN_NEAR(guess[0], q_init, 0.0);
+  EXPECT_EIGEN_NEAR(guess[5], q_mid, 1e-12);
+}
+
+TEST(ConfigTest, FullFixtureSolverAndMpc) {
+  const ExampleConfig& config = FullConfig();
   const SolverOptions& s = config.solver;
   EXPECT_EQ(s.max_iterations, 42);
   EXPECT_EQ(s.num_threads, 2);
@@ -192,12 +210,6 @@ TEST(ConfigTest, FullFixture) {
   ASSERT_TRUE(config.mpc.has_value());
   EXPECT_DOUBLE_EQ(config.mpc->controller.control_rate, 50);
   EXPECT_EQ(config.mpc->controller.iterations_per_step, 1);
-
-  // The nominal initial guess.
-  const std::vector<Eigen::VectorXd> guess = MakeInitialGuess(config);
-  ASSERT_EQ(guess.size(), 11u);
-  EXPECT_EIGEN_NEAR(guess[0], q_init, 0.0);
-  EXPECT_EIGEN_NEAR(guess[5], q_mid, 1e-12);
 }
 
 TEST(ConfigTest, UrdfRelativeToTheFileAndNameFromTheFile) {

@@ -81,6 +81,21 @@ Step RefinedReference(const Eigen::MatrixXd& H, const Eigen::MatrixXd& At, const
   return out;
 }
 
+// The banded solver's solutions of one KKT system, in its four modes.
+struct BandedSteps {
+  Step banded;                    // the default: adaptive double-double refinement step
+  Step first;                     // the double-double step first (the minimizer's hint)
+  Step plain;                     // the refinement residual in double only
+  Step extended;                  // the residual in double-double always
+  bool adaptive_extended{false};  // the default took the double-double step
+};
+
+// Compares the banded solutions x of [H A^T; A 0][p; lambda] = -[g; h] (At = A^T, dense) with the
+// dense formula refined in long double.
+void CheckAgainstDense(const PentaDiagonalMatrix& H, const Eigen::MatrixXd& At,
+                       const Eigen::VectorXd& g, const Eigen::VectorXd& h,
+                       const BandedSteps& steps);
+
 // H (shifted as the minimizer shifts it), A and the two solutions at iterate q.
 void CompareAt(const ExampleConfig& config, const std::vector<Eigen::VectorXd>& q) {
   Transcription t(config.model, config.problem);
@@ -110,23 +125,33 @@ void CompareAt(const ExampleConfig& config, const std::vector<Eigen::VectorXd>& 
   ASSERT_TRUE(status.ok()) << status.Message();
   // Blocks of 8 and more over 8 and more steps: the two-half order, with no fallback.
   EXPECT_EQ(kkt.factored_in_two_halves(), n + nu >= BandedKktSolver::kTwoHalfMinBlock && N >= 8);
-  Step banded, extended, plain, first;
-  kkt.Solve(g, h, &banded.p, &banded.lambda);
-  const bool adaptive_extended = kkt.last_solve_extended();
+  BandedSteps x;
+  kkt.Solve(g, h, &x.banded.p, &x.banded.lambda);
+  x.adaptive_extended = kkt.last_solve_extended();
   // The minimizer's hint after an iteration that needed the double-double step.
   kkt.set_extended_first(true);
-  kkt.Solve(g, h, &first.p, &first.lambda);
+  kkt.Solve(g, h, &x.first.p, &x.first.lambda);
   EXPECT_TRUE(kkt.last_solve_extended());
   kkt.set_extended_first(false);
   // Without the adaptive double-double step: the refinement residual in double only.
   kkt.set_extended_threshold(std::numeric_limits<double>::infinity());
-  kkt.Solve(g, h, &plain.p, &plain.lambda);
+  kkt.Solve(g, h, &x.plain.p, &x.plain.lambda);
   EXPECT_FALSE(kkt.last_solve_extended());
   kkt.set_extended_residual(true);
-  kkt.Solve(g, h, &extended.p, &extended.lambda);
-
+  kkt.Solve(g, h, &x.extended.p, &x.extended.lambda);
   Eigen::MatrixXd At(N * n, N * nu);
   t.CalcDenseConstraintJacobianTranspose(d, &At);
+  CheckAgainstDense(H, At, g, h, x);
+}
+
+void CheckAgainstDense(const PentaDiagonalMatrix& H, const Eigen::MatrixXd& At,
+                       const Eigen::VectorXd& g, const Eigen::VectorXd& h,
+                       const BandedSteps& steps) {
+  const Step& banded = steps.banded;
+  const Step& extended = steps.extended;
+  const Step& plain = steps.plain;
+  const Step& first = steps.first;
+  const bool adaptive_extended = steps.adaptive_extended;
   const MatrixXld Hl = H.MakeDense().cast<long double>(), Atl = At.cast<long double>();
   const VectorXld gl = g.cast<long double>(), hl = h.cast<long double>();
   const Eigen::LLT<MatrixXld> Hllt(Hl);
