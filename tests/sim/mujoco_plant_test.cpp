@@ -186,20 +186,7 @@ TEST(MujocoPlant, EllipticConeFrictionDoesNotDependOnTheSlidingDirection) {
 }
 
 TEST(MujocoPlant, ExcludedPairsDoNotCollide) {
-  ModelBuilder builder("two_balls");
-  BodyInertia inertia;
-  inertia.mass = 1.0;
-  inertia.I_BBcm_B = 0.004 * Eigen::Matrix3d::Identity();
-  for (const char* name : {"ball_a", "ball_b"}) {
-    JointSpec joint;
-    joint.name = std::string(name) + "_joint";
-    joint.type = JointType::kFloating;
-    const BodyIndex b = builder.AddBody(name, inertia, kWorldBody, joint);
-    builder.AddGeometry(std::string(name) + "_sphere", b, Eigen::Isometry3d::Identity(),
-                        Sphere{0.1});
-  }
-  builder.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
-  const Model model = builder.Build();
+  const Model model = TwoBallsModel();
   MujocoPlantOptions options;
   options.pairs.excluded_pairs = {{"ball_a", "ground"}};
   std::unique_ptr<Plant> plant = sim::MakeMujocoPlant(model, options);

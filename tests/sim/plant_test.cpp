@@ -243,20 +243,7 @@ TEST(BuiltinPlant, RejectsBadArguments) {
 
 TEST(BuiltinPlant, ScenePairFiltersHoldAndOnlyFrictionOverridesCarryOver) {
   // Two balls over the ground; the pair (ball_a, ground) is excluded: ball a falls through.
-  ModelBuilder builder("two_balls");
-  BodyInertia inertia;
-  inertia.mass = 1.0;
-  inertia.I_BBcm_B = 0.004 * Eigen::Matrix3d::Identity();
-  for (const char* name : {"ball_a", "ball_b"}) {
-    JointSpec joint;
-    joint.name = std::string(name) + "_joint";
-    joint.type = JointType::kFloating;
-    const BodyIndex b = builder.AddBody(name, inertia, kWorldBody, joint);
-    builder.AddGeometry(std::string(name) + "_sphere", b, Eigen::Isometry3d::Identity(),
-                        Sphere{0.1});
-  }
-  builder.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
-  const Model model = builder.Build();
+  const Model model = TwoBallsModel();
   BuiltinPlantOptions options;
   options.pairs.parameters.stiffness = 1.0;  // the planner's law: replaced by options.contact
   options.pairs.excluded_pairs = {{"ball_a", "ground"}};
@@ -360,20 +347,7 @@ TEST(BuiltinPlant, AdvanceDoesNotAllocate) {
 // MJCF of the MuJoCo plant (no MuJoCo needed).
 
 TEST(MujocoPlantMjcf, ExplicitPairsFollowTheSceneFilters) {
-  ModelBuilder builder("two_balls");
-  BodyInertia inertia;
-  inertia.mass = 1.0;
-  inertia.I_BBcm_B = 0.004 * Eigen::Matrix3d::Identity();
-  for (const char* name : {"ball_a", "ball_b"}) {
-    JointSpec joint;
-    joint.name = std::string(name) + "_joint";
-    joint.type = JointType::kFloating;
-    const BodyIndex b = builder.AddBody(name, inertia, kWorldBody, joint);
-    builder.AddGeometry(std::string(name) + "_sphere", b, Eigen::Isometry3d::Identity(),
-                        Sphere{0.1});
-  }
-  builder.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
-  const Model model = builder.Build();
+  const Model model = TwoBallsModel();
   MujocoPlantOptions options;
   options.friction_coefficient = 0.7;
   options.pairs.excluded_pairs = {{"ball_a", "ground"}};

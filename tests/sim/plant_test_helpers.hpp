@@ -158,6 +158,25 @@ inline void CheckExtraDamping(Plant* plant) {
   EXPECT_THROW(plant->SetExtraDamping(Eigen::VectorXd::Constant(1, NAN)), InvalidArgument);
 }
 
+// Two free balls (bodies ball_a, ball_b: 1 kg, radius 0.1 m, both at the world origin) over a
+// ground half-space: the scene of the pair-filter tests.
+inline Model TwoBallsModel() {
+  ModelBuilder builder("two_balls");
+  BodyInertia inertia;
+  inertia.mass = 1.0;
+  inertia.I_BBcm_B = 0.004 * Eigen::Matrix3d::Identity();
+  for (const char* name : {"ball_a", "ball_b"}) {
+    JointSpec joint;
+    joint.name = std::string(name) + "_joint";
+    joint.type = JointType::kFloating;
+    const BodyIndex b = builder.AddBody(name, inertia, kWorldBody, joint);
+    builder.AddGeometry(std::string(name) + "_sphere", b, Eigen::Isometry3d::Identity(),
+                        Sphere{0.1});
+  }
+  builder.AddGeometry("ground", kWorldBody, Eigen::Isometry3d::Identity(), HalfSpace{});
+  return builder.Build();
+}
+
 // Runs the quadruped under joint PD control towards q_stand for `steps` 1 ms steps.
 inline void StandWithPd(const Eigen::VectorXd& q_stand, int steps, Plant* plant,
                         double* max_base_speed_late) {
