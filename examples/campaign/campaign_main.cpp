@@ -136,19 +136,33 @@ double ParseNonNegative(const std::string& flag, const std::string& text, double
   return v;
 }
 
-// Two outputs on one path would overwrite each other: refuse, naming both options.
+// Whether two paths name one file (the same text, or the same file once resolved).
+bool SamePath(const std::string& a, const std::string& b) {
+  if (a == b) return true;
+  std::error_code error;
+  const auto first = std::filesystem::weakly_canonical(a, error);
+  if (error) return false;
+  const auto second = std::filesystem::weakly_canonical(b, error);
+  return !error && first == second;
+}
+
+// Two outputs on one path would overwrite each other, and an output on a merged input would
+// replace a shard: refuse, naming the options.
 void CheckDistinctOutputs(const Arguments& a) {
   const std::vector<std::pair<std::string, std::string>> outputs = {
       {"--json", a.json}, {"--markdown", a.markdown}, {"--trajectory-csv", a.trajectory_csv}};
   for (size_t i = 0; i < outputs.size(); ++i) {
+    if (outputs[i].second.empty()) continue;
     for (size_t j = i + 1; j < outputs.size(); ++j) {
-      if (outputs[i].second.empty() || outputs[j].second.empty()) continue;
-      std::error_code error;
-      const auto first = std::filesystem::weakly_canonical(outputs[i].second, error);
-      const auto second = std::filesystem::weakly_canonical(outputs[j].second, error);
-      if (outputs[i].second == outputs[j].second || (!error && first == second)) {
+      if (!outputs[j].second.empty() && SamePath(outputs[i].second, outputs[j].second)) {
         throw UsageError{outputs[i].first + " and " + outputs[j].first + " name the same file '" +
                          outputs[j].second + "'"};
+      }
+    }
+    for (const std::string& input : a.merge) {
+      if (SamePath(outputs[i].second, input)) {
+        throw UsageError{outputs[i].first + " names '" + outputs[i].second +
+                         "', a file given to --merge: write the merged result elsewhere"};
       }
     }
   }
@@ -214,6 +228,7 @@ Arguments ParseArguments(int argc, char** argv) {
     if (!a.name.empty() || a.runs || a.seed || a.run_index || a.jobs) {
       throw UsageError{"--merge takes only FILEs, --json and --markdown"};
     }
+    CheckDistinctOutputs(a);
     return a;
   }
   if (a.name.empty()) throw UsageError{"missing NAME (e.g. spinner)"};
