@@ -4,8 +4,9 @@
 /// Counts heap allocations (malloc, calloc, realloc; operator new and Eigen go through malloc)
 /// while a ScopedAllocationCounter is alive. Define IDTO_DEFINE_ALLOCATION_COUNTER before
 /// including this header in exactly one translation unit of a test binary: it interposes glibc's
-/// malloc. Under AddressSanitizer (which owns malloc) counting is unavailable:
-/// AllocationCountingAvailable() is false and tests should skip.
+/// malloc or, under AddressSanitizer (which owns malloc), installs an allocation hook in the
+/// sanitizer's allocator, which every allocation of the program runs. Under ThreadSanitizer
+/// counting is unavailable: AllocationCountingAvailable() is false and tests should skip.
 
 #include <atomic>
 #include <cstddef>
@@ -21,10 +22,17 @@ inline std::atomic<bool>& AllocationCounting() {
   return on;
 }
 
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool AllocationCountingAvailable() { return false; }
+#if defined(__SANITIZE_THREAD__)
+inline bool AllocationCountingAvailable() { return false; }
+#elif defined(__SANITIZE_ADDRESS__)
+/// Set when the defining translation unit installed its hook (at static initialization).
+inline std::atomic<bool>& AllocationHookInstalled() {
+  static std::atomic<bool> installed{false};
+  return installed;
+}
+inline bool AllocationCountingAvailable() { return AllocationHookInstalled().load(); }
 #else
-constexpr bool AllocationCountingAvailable() { return true; }
+inline bool AllocationCountingAvailable() { return true; }
 #endif
 
 /// Counts allocations between construction and count().
@@ -62,4 +70,28 @@ void* realloc(void* p, std::size_t size) {
 }
 void free(void* p) { __libc_free(p); }
 }
+#endif
+
+#if defined(IDTO_DEFINE_ALLOCATION_COUNTER) && defined(__SANITIZE_ADDRESS__)
+// The sanitizer runtime's hook interface (sanitizer/allocator_interface.h, which GCC does not
+// install): the malloc hook runs for every allocation, whatever function made it.
+extern "C" int __sanitizer_install_malloc_and_free_hooks(void (*malloc_hook)(const volatile void*,
+                                                                             std::size_t),
+                                                         void (*free_hook)(const volatile void*));
+
+namespace idto::test {
+namespace {
+void CountAllocation(const volatile void* /*p*/, std::size_t /*size*/) {
+  if (AllocationCounting()) ++AllocationCount();
+}
+void IgnoreFree(const volatile void* /*p*/) {}
+// Before main, on the main thread, as the runtime requires. It returns 0 on failure (and when
+// either hook is null).
+const bool kAllocationHookInstalled = [] {
+  const bool ok = __sanitizer_install_malloc_and_free_hooks(&CountAllocation, &IgnoreFree) != 0;
+  AllocationHookInstalled() = ok;
+  return ok;
+}();
+}  // namespace
+}  // namespace idto::test
 #endif
