@@ -42,6 +42,7 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "relative",
                                            "relative_goal",
                                            "orientation_lead",
+                                           "hold",
                                            "builtin_contact",
                                            "mujoco_friction",
                                            "mujoco_torsional_friction",
@@ -263,6 +264,39 @@ void ReadOrientationLeads(const MapReader& mpc, const Model& model, mpc::MpcOpti
   }
 }
 
+/// hold: {joint, squeeze: {tip body: m}, enter, predict, exit, rest_exit, distance, refresh,
+/// seek_rate, seek_step, seek_max} (mpc::MpcOptions::Hold; the controller checks the values).
+void ReadHold(const MapReader& mpc, const Model& model, mpc::MpcOptions* c) {
+  if (!mpc.Has("hold")) return;
+  const Reader& r = mpc.reader();
+  const MapReader h(r, mpc.Get("hold"), mpc.Path("hold"),
+                    {"joint", "squeeze", "enter", "predict", "exit", "rest_exit", "distance",
+                     "refresh", "seek_rate", "seek_step", "seek_max"});
+  const std::string joint = r.String(h.Require("joint"), h.Path("joint"));
+  if (!model.HasJoint(joint) ||
+      model.joint_type(model.GetJointIndex(joint)) != JointType::kFloating) {
+    r.FailValue(h.Get("joint"), h.Path("joint"), "'" + joint + "'", "a floating joint");
+  }
+  mpc::MpcOptions::Hold& o = c->hold;
+  o.position_start = model.position_start(model.GetJointIndex(joint));
+  o.enter_angle = h.Positive("enter", o.enter_angle);
+  o.exit_angle = h.Positive("exit", o.exit_angle);
+  o.predict = h.NonNegative("predict", o.predict);
+  o.distance = h.Positive("distance", o.distance);
+  o.refresh = h.NonNegative("refresh", o.refresh);
+  o.seek_rate = h.NonNegative("seek_rate", o.seek_rate);
+  o.seek_step = h.NonNegative("seek_step", o.seek_step);
+  o.seek_max = h.NonNegative("seek_max", o.seek_max);
+  o.rest_exit_angle = h.NonNegative("rest_exit", o.rest_exit_angle);
+  for (const MapEntry& e : r.Entries(h.Require("squeeze"), h.Path("squeeze"), "a map")) {
+    if (!model.HasBody(e.key)) {
+      r.FailValue(e.key_node, Join(h.Path("squeeze"), e.key), "'" + e.key + "'", "a body");
+    }
+    o.tips.push_back(model.GetBodyIndex(e.key));
+    o.squeeze.push_back(r.Double(e.value, Join(h.Path("squeeze"), e.key)));
+  }
+}
+
 /// builtin_contact: the built-in plant's contact law (keys absent keep the plant's defaults,
 /// except the friction coefficient, which stays the scene's as without the key).
 void ReadBuiltinContact(const MapReader& mpc, sim::BuiltinPlantOptions* builtin) {
@@ -325,6 +359,7 @@ MpcConfig ReadMpcConfig(const MapReader& mpc, const ExampleConfig& config) {
   ReadRelative(mpc, model, &m.controller);
   ReadRelativeGoals(mpc, model, &m.controller);
   ReadOrientationLeads(mpc, model, &m.controller);
+  ReadHold(mpc, model, &m.controller);
   ReadBuiltinContact(mpc, &m.builtin);
   ReadDisturbances(mpc, model, &m.closed_loop);
   try {

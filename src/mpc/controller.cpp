@@ -2,9 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 #include <string>
+#include <utility>
 
 #include "idto/core/errors.hpp"
+#include "idto/multibody/algorithms/dynamics.hpp"
+#include "idto/multibody/algorithms/jacobians.hpp"
 #include "idto/multibody/algorithms/kinematics.hpp"
 
 namespace idto::mpc {
@@ -56,6 +60,52 @@ void MpcOptions::Validate(const Model& model) const {
     if (!(std::isfinite(lead.max_angle) && lead.max_angle > 0.0)) {
       ThrowInvalidArgument(kWhere, name + ".max_angle", FormatValue(lead.max_angle),
                            "a finite positive angle in rad");
+    }
+  }
+  if (hold.position_start >= 0) ValidateHold(model);
+}
+
+void MpcOptions::ValidateHold(const Model& model) const {
+  static constexpr const char* kWhere = "MpcOptions";
+  bool is_quaternion = false;
+  for (const JointIndex j : model.floating_joints()) {
+    is_quaternion = is_quaternion || model.position_start(j) == hold.position_start;
+  }
+  if (!is_quaternion) {
+    ThrowInvalidArgument(kWhere, "hold.position_start", std::to_string(hold.position_start),
+                         "the first position index of a floating joint's quaternion");
+  }
+  CheckPositive(kWhere, "hold.enter_angle", hold.enter_angle);
+  CheckPositive(kWhere, "hold.distance", hold.distance);
+  if (!(std::isfinite(hold.exit_angle) && hold.exit_angle > hold.enter_angle)) {
+    ThrowInvalidArgument(
+        kWhere, "hold.exit_angle", FormatValue(hold.exit_angle),
+        "a finite angle above hold.enter_angle = " + FormatValue(hold.enter_angle));
+  }
+  const std::pair<const char*, double> non_negative[] = {
+      {"hold.predict", hold.predict},     {"hold.rest_exit_angle", hold.rest_exit_angle},
+      {"hold.refresh", hold.refresh},     {"hold.seek_rate", hold.seek_rate},
+      {"hold.seek_step", hold.seek_step}, {"hold.seek_max", hold.seek_max}};
+  for (const auto& [name, value] : non_negative) {
+    if (!(std::isfinite(value) && value >= 0.0)) {
+      ThrowInvalidArgument(kWhere, name, FormatValue(value), "a finite number >= 0");
+    }
+  }
+  if (hold.tips.empty() || hold.tips.size() != hold.squeeze.size()) {
+    ThrowInvalidArgument(
+        kWhere, "hold.tips", std::to_string(hold.tips.size()) + " bodies",
+        "one or more, as many as hold.squeeze (" + std::to_string(hold.squeeze.size()) + ")");
+  }
+  for (size_t k = 0; k < hold.tips.size(); ++k) {
+    if (hold.tips[k] < 1 || hold.tips[k] >= model.num_bodies()) {
+      ThrowInvalidArgument(kWhere, "hold.tips[" + std::to_string(k) + "]",
+                           std::to_string(hold.tips[k]),
+                           "a body index in [1, " + std::to_string(model.num_bodies()) + ")");
+    }
+    if (!(std::isfinite(hold.squeeze[k]) && std::abs(hold.squeeze[k]) < hold.distance)) {
+      ThrowInvalidArgument(kWhere, "hold.squeeze[" + std::to_string(k) + "]",
+                           FormatValue(hold.squeeze[k]),
+                           "a finite length smaller than hold.distance in magnitude");
     }
   }
 }
@@ -121,6 +171,128 @@ Controller::Controller(const Model& model, const ProblemDefinition& problem,
   q_shift_.assign(N + 1, problem_.q_init);
   q_nom_ = problem_.q_nom;
   knot_times_.resize(N + 1);
+  if (options_.hold.position_start >= 0) SetUpHold();
+}
+
+void Controller::SetUpHold() {
+  const MpcOptions::Hold& h = options_.hold;
+  const int N = problem_.num_steps;
+  for (const JointIndex j : model_.floating_joints()) {
+    if (model_.position_start(j) == h.position_start) {
+      hold_velocity_start_ = model_.velocity_start(j);
+    }
+  }
+  q_index_of_v_.assign(model_.nv(), -1);
+  for (int i : options_.actuated) {
+    q_index_of_v_[i] = model_.position_start(model_.GetJointIndex(model_.velocity_name(i)));
+  }
+  hold_data_ = std::make_unique<Data>(model_);
+  ForwardKinematics(model_, problem_.q_init, hold_data_.get());
+  for (size_t f = 0; f < h.tips.size(); ++f) {
+    hold_tips0_.push_back(hold_data_->X_WB(h.tips[f]).translation());
+    CalcPointJacobian(model_, *hold_data_, h.tips[f], Eigen::Vector3d::Zero(), &hold_J_);
+    std::vector<int> dofs;
+    for (int i : options_.actuated) {
+      if (hold_J_.col(i).norm() > 1e-9) dofs.push_back(i);
+    }
+    if (dofs.empty() || dofs.size() > static_cast<size_t>(MpcOptions::kMaxHoldTipDofs)) {
+      ThrowInvalidArgument("Controller", "options.hold.tips[" + std::to_string(f) + "]",
+                           "body " + model_.body_name(h.tips[f]) + " moved by " +
+                               std::to_string(dofs.size()) + " actuated DoFs",
+                           "a body moved by 1 to " + std::to_string(MpcOptions::kMaxHoldTipDofs));
+    }
+    hold_dofs_.push_back(dofs);
+  }
+  hold_traj_.q.assign(N + 1, problem_.q_init);
+  hold_traj_.v.assign(N + 1, Eigen::VectorXd::Zero(model_.nv()));
+  hold_traj_.tau.assign(N + 1, Eigen::VectorXd::Zero(model_.nv()));
+}
+
+bool Controller::UpdateHold(const Eigen::VectorXd& q_hat, const Eigen::VectorXd& v_hat) {
+  const MpcOptions::Hold& h = options_.hold;
+  const int s = h.position_start;
+  // The rotation that takes the measured orientation to the target, and its angle theta.
+  Eigen::Quaterniond E =
+      QuaternionAt(problem_.q_nom.back(), s) * QuaternionAt(q_hat, s).conjugate();
+  if (E.w() < 0.0) E.coeffs() = -E.coeffs();
+  const double sn = E.vec().norm();
+  const double theta = 2.0 * std::atan2(sn, E.w());
+  const Eigen::Vector3d w = v_hat.segment<3>(hold_velocity_start_);  // world
+  const double approach = sn > 0.0 ? w.dot(E.vec() / sn) : 0.0;      // d(-theta)/dt
+  const double predicted = theta - std::max(0.0, approach) * h.predict;
+  const Eigen::Vector3d centre = q_hat.segment<3>(s + 4);
+  const bool spinning = std::abs(w.z()) > h.seek_rate;
+  if (!holding_ && std::min(theta, predicted) < h.enter_angle) {
+    holding_ = true;
+    hold_centre_ = centre;
+    hold_extra_ = 0.0;
+  } else if (holding_ && (theta > h.exit_angle ||
+                          (h.rest_exit_angle > 0.0 && theta > h.rest_exit_angle && !spinning))) {
+    holding_ = false;
+  }
+  if (!holding_) return false;
+  if ((centre - hold_centre_).norm() > h.refresh) hold_centre_ = centre;
+  if (h.seek_step > 0.0) {
+    hold_extra_ = spinning ? std::min(hold_extra_ + h.seek_step, h.seek_max)
+                           : std::max(hold_extra_ - 0.25 * h.seek_step, 0.0);
+  }
+  return true;
+}
+
+void Controller::PlaceTip(size_t f, const Eigen::Vector3d& goal, Eigen::VectorXd* q) {
+  const int tip = options_.hold.tips[f];
+  const std::vector<int>& dofs = hold_dofs_[f];
+  const int n = static_cast<int>(dofs.size());
+  using TipJacobian = Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, MpcOptions::kMaxHoldTipDofs>;
+  using TipVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, MpcOptions::kMaxHoldTipDofs, 1>;
+  using TipMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0,
+                                  MpcOptions::kMaxHoldTipDofs, MpcOptions::kMaxHoldTipDofs>;
+  TipJacobian J(3, n);
+  TipVector r(n);
+  // Gauss-Newton on |J dq - e|^2 + mu |q + dq - q_init|^2: the solution stays near q_init, so the
+  // grasp does not jump between inverse-kinematics branches as the ball's estimate moves.
+  constexpr double kMu = 1e-5;  // m^2 / rad^2
+  for (int it = 0; it < 30; ++it) {
+    ForwardKinematics(model_, *q, hold_data_.get());
+    const Eigen::Vector3d e = goal - hold_data_->X_WB(tip).translation();
+    CalcPointJacobian(model_, *hold_data_, tip, Eigen::Vector3d::Zero(), &hold_J_);
+    for (int k = 0; k < n; ++k) {
+      J.col(k) = hold_J_.col(dofs[k]);
+      const int j = q_index_of_v_[dofs[k]];
+      r(k) = (*q)(j)-problem_.q_init(j);
+    }
+    TipMatrix H = J.transpose() * J;
+    H.diagonal().array() += kMu;
+    const TipVector dq = H.ldlt().solve(J.transpose() * e - kMu * r);
+    for (int k = 0; k < n; ++k) {
+      const int j = q_index_of_v_[dofs[k]];
+      (*q)(j) = std::clamp((*q)(j) + dq(k), model_.position_lower_limits()(j),
+                           model_.position_upper_limits()(j));
+    }
+  }
+}
+
+void Controller::BuildHoldPlan(const Eigen::VectorXd& q_hat) {
+  const MpcOptions::Hold& h = options_.hold;
+  Eigen::VectorXd& q = hold_traj_.q[0];
+  q = problem_.q_init;
+  q.segment<7>(h.position_start) = q_hat.segment<7>(h.position_start);
+  for (size_t f = 0; f < h.tips.size(); ++f) {
+    // Radially: towards the centre along the horizontal direction of the tip at q_init.
+    Eigen::Vector3d d = hold_tips0_[f] - hold_centre_;
+    d.z() = 0.0;
+    d.normalize();
+    PlaceTip(f, hold_centre_ + (h.distance - (h.squeeze[f] + hold_extra_)) * d, &q);
+  }
+  const Eigen::VectorXd& zero = hold_traj_.v[0];
+  const Eigen::VectorXd& g = InverseDynamics(model_, q, zero, zero, hold_data_.get());
+  Eigen::VectorXd& tau = hold_traj_.tau[0];
+  tau.setZero();
+  for (int i : options_.actuated) tau(i) = g(i);
+  for (size_t k = 1; k < hold_traj_.q.size(); ++k) {
+    hold_traj_.q[k] = q;
+    hold_traj_.tau[k] = tau;
+  }
 }
 
 Controller::~Controller() = default;
@@ -195,6 +367,11 @@ SolverSummary Controller::Replan(double t, const Eigen::VectorXd& q_hat,
   optimizer_->SetIterate(q_shift_);
   q_warm_ = q_shift_;
   SolverSummary summary = optimizer_->SolveWarmStart(&solution_);
+  if (options_.hold.position_start >= 0 && UpdateHold(q_hat, v_hat)) {
+    BuildHoldPlan(q_hat);
+    Publish(t, hold_traj_);
+    return summary;
+  }
   bool finite = summary.termination != TerminationType::kFailure;
   for (int k = 0; finite && k <= N; ++k) {
     finite =

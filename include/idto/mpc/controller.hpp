@@ -14,6 +14,7 @@
 
 #include "idto/mpc/pd_controller.hpp"
 #include "idto/mpc/spline.hpp"
+#include "idto/multibody/data.hpp"
 #include "idto/multibody/model.hpp"
 #include "idto/problem/problem_definition.hpp"
 #include "idto/solver/solver_options.hpp"
@@ -57,11 +58,47 @@ struct MpcOptions {
     double max_angle{0.5};  ///< rad
   };
   std::vector<OrientationLead> orientation_leads;
+  /// A hold law outside the optimizer (off while position_start < 0; docs/mpc.md, session 38).
+  /// At each re-plan the orientation error theta of the floating body whose quaternion starts at
+  /// position_start is measured against the problem's final nominal orientation. The hold starts
+  /// when theta < enter_angle, or when the body's measured rotation towards the target will bring
+  /// theta below it within `predict` seconds; while it lasts, the published plan is a grasp
+  /// instead of the solver's plan (the solver still runs at every step): each fingertip body in
+  /// `tips` is placed by inverse kinematics on its own joints (least squares, pulled towards
+  /// q_init, within the position limits; so within about 2 mm) at `distance - squeeze[i]` from
+  /// the body's centre,
+  /// along the horizontal direction in which it lies from the centre at q_init; v = 0 and the
+  /// feed-forward torque is the grasp's gravity compensation. The PD turns a squeeze of a
+  /// fraction of a millimetre into a light touch. The centre is the body's measured one, taken
+  /// again when the body moves more than `refresh` from it. Contact seeking: while the body
+  /// spins about the world's z faster than seek_rate, every squeeze grows by seek_step per
+  /// re-plan (up to seek_max more), else it shrinks by seek_step / 4. The hold ends when theta
+  /// exceeds exit_angle, or rest_exit_angle (0: off) with the body spinning slower than
+  /// seek_rate (it came to rest short of or past the target and the solver turns it again).
+  struct Hold {
+    int position_start{-1};
+    double enter_angle{0.06};     ///< rad, > 0
+    double predict{0.0};          ///< s, >= 0
+    double exit_angle{0.5};       ///< rad, > enter_angle
+    double rest_exit_angle{0.0};  ///< rad, >= 0 (0: off)
+    double distance{0.072};       ///< m, > 0: body radius + fingertip radius
+    double refresh{0.02};         ///< m, >= 0
+    std::vector<int> tips;        ///< body indices, one or more, each moved by <= 8 joints
+    std::vector<double> squeeze;  ///< m, one per tip (negative: a gap)
+    double seek_rate{0.005};      ///< rad/s, >= 0
+    double seek_step{0.0};        ///< m, >= 0 (0: off)
+    double seek_max{0.0015};      ///< m, >= 0
+  };
+  Hold hold;
+  /// Most joints that may move one hold tip (MpcOptions::Hold::tips).
+  static constexpr int kMaxHoldTipDofs = 8;
   PdGains gains;  ///< nv each; zero gives pure feed-forward
   /// Actuated velocity indices for the PD+ controller (default: all but the problem's
   /// unactuated DoFs).
   std::vector<int> actuated;
   void Validate(const Model& model) const;
+  /// The checks of `hold` (Validate calls it when the hold is on).
+  void ValidateHold(const Model& model) const;
 };
 
 /// A plan: knots at times t_0 + k dt (k = 0..N) and C² splines through them.
@@ -116,6 +153,14 @@ class Controller {
 
  private:
   void Publish(double t, const Trajectory& solution);
+  /// Hold law (MpcOptions::Hold): its scratch and per-tip joints (constructor).
+  void SetUpHold();
+  /// Hold law (MpcOptions::Hold): the orientation error from the measurement, whether to hold.
+  bool UpdateHold(const Eigen::VectorXd& q_hat, const Eigen::VectorXd& v_hat);
+  /// The grasp around hold_centre_ (inverse kinematics from q_init) into hold_traj_.
+  void BuildHoldPlan(const Eigen::VectorXd& q_hat);
+  /// Moves fingertip `f` of the hold towards `goal` (world) in *q, on its own joints.
+  void PlaceTip(size_t f, const Eigen::Vector3d& goal, Eigen::VectorXd* q);
 
   Model model_;
   ProblemDefinition problem_;
@@ -124,6 +169,17 @@ class Controller {
   std::unique_ptr<PdController> pd_;
   Plan plan_;
   int num_rejected_{0};
+  // Hold law state (MpcOptions::Hold), set up by the constructor when the hold is on.
+  bool holding_{false};
+  double hold_extra_{0.0};       // m: the contact seeking's added squeeze
+  int hold_velocity_start_{-1};  // the held body's angular velocity (world), 3
+  Eigen::Vector3d hold_centre_{Eigen::Vector3d::Zero()};  // world
+  std::vector<Eigen::Vector3d> hold_tips0_;               // per tip: its position at q_init, world
+  std::vector<std::vector<int>> hold_dofs_;               // per tip: velocity indices of its joints
+  std::vector<int> q_index_of_v_;                         // actuated velocity i: its position index
+  std::unique_ptr<Data> hold_data_;                       // kinematics scratch for the grasp
+  Eigen::Matrix3Xd hold_J_;                               // 3 x nv point Jacobian scratch
+  Trajectory hold_traj_;                                  // the published grasp: N + 1 copies
   // Scratch.
   std::vector<Eigen::VectorXd> q_shift_, q_warm_, q_nom_;
   std::vector<double> knot_times_;
