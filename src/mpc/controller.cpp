@@ -368,8 +368,11 @@ SolverSummary Controller::Replan(double t, const Eigen::VectorXd& q_hat,
   q_warm_ = q_shift_;
   SolverSummary summary = optimizer_->SolveWarmStart(&solution_);
   if (options_.hold.position_start >= 0 && UpdateHold(q_hat, v_hat)) {
+    // The grasp replaces the solver's plan (MpcOptions::Hold) and warm-starts the next solve. A
+    // failed solve is still a failed re-plan: counted, and the closed loop keeps its plan.
     BuildHoldPlan(q_hat);
     Publish(t, hold_traj_);
+    if (summary.termination == TerminationType::kFailure) ++num_rejected_;
     return summary;
   }
   bool finite = summary.termination != TerminationType::kFailure;
