@@ -189,15 +189,7 @@ TEST(BuiltinPlant, DisturbanceIsAForceAtTheBodyOrigin) {
 TEST(BuiltinPlant, DisturbancePushesTheBallAlongTheForce) {
   const Model model = BallModel();
   std::unique_ptr<Plant> plant = sim::MakeBuiltinPlant(model, {});
-  plant->Reset(BallAt(0, 0, 0.1), Eigen::VectorXd::Zero(6));
-  plant->Advance(0.3, Eigen::VectorXd::Zero(6));  // settle
-  const Eigen::Vector3d p0 = plant->q().tail<3>();
-  const BodyIndex ball = model.GetBodyIndex("ball");
-  plant->Advance(0.2, Eigen::VectorXd::Zero(6), ball, Eigen::Vector3d(0.0, 8.0, 0.0));
-  const Eigen::Vector3d dp = plant->q().tail<3>() - p0;
-  EXPECT_GT(dp.y(), 0.02);
-  EXPECT_LT(std::abs(dp.x()), 1e-6);
-  EXPECT_LT(std::abs(dp.z()), 1e-3);
+  CheckPushAlongY(model, plant.get(), 1e-3);
 }
 
 TEST(BuiltinPlant, ClockTakesWholeStepsNearestTheRequestedTime) {

@@ -177,6 +177,20 @@ inline Model TwoBallsModel() {
   return builder.Build();
 }
 
+// The ball of BallModel settled on the ground, then pushed with 8 N along +y for 0.2 s: it moves
+// along y only (within z_tolerance vertically). Checks any plant's disturbance input.
+inline void CheckPushAlongY(const Model& model, Plant* plant, double z_tolerance) {
+  plant->Reset(BallAt(0, 0, 0.1), Eigen::VectorXd::Zero(6));
+  plant->Advance(0.3, Eigen::VectorXd::Zero(6));  // settle
+  const Eigen::Vector3d p0 = plant->q().tail<3>();
+  const BodyIndex ball = model.GetBodyIndex("ball");
+  plant->Advance(0.2, Eigen::VectorXd::Zero(6), ball, Eigen::Vector3d(0.0, 8.0, 0.0));
+  const Eigen::Vector3d dp = plant->q().tail<3>() - p0;
+  EXPECT_GT(dp.y(), 0.02);
+  EXPECT_LT(std::abs(dp.x()), 1e-6);
+  EXPECT_LT(std::abs(dp.z()), z_tolerance);
+}
+
 // Runs the quadruped under joint PD control towards q_stand for `steps` 1 ms steps.
 inline void StandWithPd(const Eigen::VectorXd& q_stand, int steps, Plant* plant,
                         double* max_base_speed_late) {
