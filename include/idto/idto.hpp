@@ -43,6 +43,7 @@
 // mpc
 #include "idto/mpc/controller.hpp"
 #include "idto/mpc/pd_controller.hpp"
+#include "idto/mpc/position_filter.hpp"
 #include "idto/mpc/realtime.hpp"
 #include "idto/mpc/spline.hpp"
 // sim

@@ -28,6 +28,10 @@ void BindOptions(py::module_& m) {
       .def(py::init<>())
       .def_readwrite("position", &MpcOptions::RelativeGoal::position)
       .def_readwrite("goal", &MpcOptions::RelativeGoal::goal);
+  py::class_<MpcOptions::Estimator>(m, "Estimator",
+                                    "The closed loop's estimate of q (0: the measurements).")
+      .def(py::init<>())
+      .def_readwrite("position_time_constant", &MpcOptions::Estimator::position_time_constant);
   py::class_<MpcOptions>(m, "MpcOptions", "Options of the real-time-iteration controller.")
       .def(py::init<>())
       .def_readwrite("control_rate", &MpcOptions::control_rate)
@@ -35,6 +39,7 @@ void BindOptions(py::module_& m) {
       .def_readwrite("relative_positions", &MpcOptions::relative_positions)
       .def_readwrite("relative_goals", &MpcOptions::relative_goals)
       .def_readwrite("orientation_leads", &MpcOptions::orientation_leads)
+      .def_readwrite("estimator", &MpcOptions::estimator)
       .def_readwrite("gains", &MpcOptions::gains)
       .def_readwrite("actuated", &MpcOptions::actuated)
       .def("validate", &MpcOptions::Validate, py::arg("model"));
@@ -54,6 +59,29 @@ void BindOptions(py::module_& m) {
           },
           py::arg("q"), py::arg("v"), py::arg("q_d"), py::arg("v_d"), py::arg("u_ff"))
       .def("actuated", &mpc::PdController::actuated);
+  py::class_<mpc::PositionFilter>(
+      m, "PositionFilter",
+      "Complementary filter on measured positions: predicted with the measured velocity, "
+      "corrected towards the measured q at the rate 1 / time_constant.")
+      .def(py::init<const Model&, double>(), py::arg("model"), py::arg("time_constant"),
+           py::keep_alive<1, 2>())
+      .def(
+          "reset",
+          [](mpc::PositionFilter& f, py::handle q) {
+            f.Reset(ToVector(q, "PositionFilter.reset", "q"));
+          },
+          py::arg("q"))
+      .def(
+          "update",
+          [](mpc::PositionFilter& f, double dt, py::handle q_hat, py::handle v_hat) {
+            static constexpr const char* kWhere = "PositionFilter.update";
+            Eigen::VectorXd q;
+            f.Update(dt, ToVector(q_hat, kWhere, "q_hat"), ToVector(v_hat, kWhere, "v_hat"), &q);
+            return ToArray(q);
+          },
+          py::arg("dt"), py::arg("q_hat"), py::arg("v_hat"), "The estimate after one measurement.")
+      .def_property_readonly("estimate",
+                             [](const mpc::PositionFilter& f) { return ToArray(f.estimate()); });
 }
 
 void BindPlan(py::module_& m) {

@@ -43,6 +43,7 @@ const std::vector<std::string> kMpcKeys = {"control_rate",
                                            "relative_goal",
                                            "orientation_lead",
                                            "hold",
+                                           "estimator",
                                            "builtin_contact",
                                            "mujoco_friction",
                                            "mujoco_torsional_friction",
@@ -57,6 +58,7 @@ const std::vector<std::string> kBuiltinContactKeys = {
     "stiffness", "smoothing", "dissipation_velocity", "friction_coefficient", "stiction_velocity"};
 const std::vector<std::string> kSensorNoiseKeys = {"position", "velocity_relative",
                                                    "velocity_floor"};
+const std::vector<std::string> kEstimatorKeys = {"position_time_constant"};
 const std::vector<std::string> kDisturbanceKeys = {"body", "start", "duration", "force"};
 
 /// The options of a file without an `mpc` section (and the starting point of one with it).
@@ -149,6 +151,14 @@ void ReadNoiseAndJitter(const MapReader& mpc, mpc::ClosedLoopOptions* cl) {
   noise.position = n.NonNegative("position", noise.position);
   noise.velocity_relative = n.NonNegative("velocity_relative", noise.velocity_relative);
   noise.velocity_floor = n.NonNegative("velocity_floor", noise.velocity_floor);
+}
+
+/// estimator: {position_time_constant: s >= 0} (mpc::MpcOptions::Estimator; absent: off).
+void ReadEstimator(const MapReader& mpc, mpc::MpcOptions* c) {
+  if (!mpc.Has("estimator")) return;
+  const MapReader e(mpc.reader(), mpc.Get("estimator"), mpc.Path("estimator"), kEstimatorKeys);
+  c->estimator.position_time_constant =
+      e.NonNegative("position_time_constant", c->estimator.position_time_constant);
 }
 
 /// relative: [joint, or {joint: [coordinate indices within the joint]}] -> position indices.
@@ -360,6 +370,7 @@ MpcConfig ReadMpcConfig(const MapReader& mpc, const ExampleConfig& config) {
   ReadRelativeGoals(mpc, model, &m.controller);
   ReadOrientationLeads(mpc, model, &m.controller);
   ReadHold(mpc, model, &m.controller);
+  ReadEstimator(mpc, &m.controller);
   ReadBuiltinContact(mpc, &m.builtin);
   ReadDisturbances(mpc, model, &m.closed_loop);
   try {

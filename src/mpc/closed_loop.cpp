@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <set>
 #include <sstream>
@@ -19,6 +20,7 @@
 
 #include "core/parallel.hpp"
 #include "idto/core/errors.hpp"
+#include "idto/mpc/position_filter.hpp"
 
 namespace idto::mpc {
 
@@ -284,12 +286,24 @@ ClosedLoopLog RunClosedLoop(const Model& model, const ClosedLoopOptions& options
   plant->SetExtraDamping(kd_implicit);
   Eigen::VectorXd u_plant = u;
 
+  std::optional<PositionFilter> filter;
+  const double time_constant = controller->options().estimator.position_time_constant;
+  if (time_constant > 0.0) filter.emplace(model, time_constant);
+
   const AwakeWorkers awake_workers(options.keep_workers_awake, period);
   RealtimeScheduling realtime(options.realtime_priority);
   const Clock::time_point run_start = Clock::now();
   for (long step = 0; step < steps; ++step) {
     const double t = step * dt;
     MeasureState(model, plant->q(), plant->v(), options.sensor_noise, &rng, &q_hat, &v_hat);
+    if (filter) {
+      // The controller's estimate replaces the measured positions (MpcOptions::Estimator).
+      if (step == 0) {
+        filter->Reset(q_hat);
+      } else {
+        filter->Update(dt, q_hat, v_hat, &q_hat);
+      }
+    }
     // A plan due now takes over before a re-plan at this step replaces the pending one (a
     // latency of exactly one control period activates at the next re-plan's step).
     if (plans.pending_at >= 0.0 && t + 1e-12 >= plans.pending_at) {

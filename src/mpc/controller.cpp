@@ -62,6 +62,7 @@ void MpcOptions::Validate(const Model& model) const {
                            "a finite positive angle in rad");
     }
   }
+  CheckNonNegative(kWhere, "estimator.position_time_constant", estimator.position_time_constant);
   if (hold.position_start >= 0) ValidateHold(model);
 }
 

@@ -1,5 +1,6 @@
 // Closed loop: the spinner example against the built-in plant makes progress; the latency
-// model and logs. (The mpc: section's keys and errors: tests/config/mpc_config_test.cpp.)
+// model and logs; the estimator. (The mpc: section's keys and errors:
+// tests/config/mpc_config_test.cpp.)
 
 #include <algorithm>
 #include <cmath>
@@ -135,26 +136,52 @@ TEST(ClosedLoop, APlantFailureStopsTheRunAndKeepsTheLog) {
   EXPECT_EQ(plant.damping_(axle), 0.0);
 }
 
+// The spinner's closed loop on the built-in plant from the example's start, with a 20-iteration
+// cold start.
+mpc::ClosedLoopLog RunSpinner(const ExampleConfig& config, const MpcConfig& mpc) {
+  std::unique_ptr<sim::Plant> plant = sim::MakeBuiltinPlant(config.model, mpc.builtin);
+  plant->Reset(config.problem.q_init, config.problem.v_init);
+  mpc::Controller controller(config.model, config.problem, config.solver, mpc.controller);
+  controller.Initialize(MakeInitialGuess(config), 20);
+  return mpc::RunClosedLoop(config.model, mpc.closed_loop, &controller, plant.get());
+}
+
 TEST(ClosedLoop, FixedLatencyRunsAreReproducible) {
   const ExampleConfig config = LoadSpinner();
   MpcConfig mpc = ParseMpcConfig(config);
   mpc.closed_loop.duration = 0.5;
   mpc.closed_loop.latency = mpc::LatencyModel::kFixed;
   mpc.closed_loop.fixed_latency = 0.002;
-  auto run = [&] {
-    std::unique_ptr<sim::Plant> plant = sim::MakeBuiltinPlant(config.model, mpc.builtin);
-    plant->Reset(config.problem.q_init, config.problem.v_init);
-    mpc::Controller controller(config.model, config.problem, config.solver, mpc.controller);
-    controller.Initialize(MakeInitialGuess(config), 20);
-    return mpc::RunClosedLoop(config.model, mpc.closed_loop, &controller, plant.get());
-  };
-  const mpc::ClosedLoopLog a = run();
-  const mpc::ClosedLoopLog b = run();
+  const mpc::ClosedLoopLog a = RunSpinner(config, mpc);
+  const mpc::ClosedLoopLog b = RunSpinner(config, mpc);
   ASSERT_EQ(a.q.size(), b.q.size());
   for (size_t k = 0; k < a.q.size(); ++k) {
     ASSERT_EQ(a.q[k], b.q[k]) << "log entry " << k;
     ASSERT_EQ(a.u[k], b.u[k]) << "log entry " << k;
   }
+}
+
+TEST(ClosedLoop, TheEstimatorFiltersTheControllersMeasurements) {
+  // MpcOptions::Estimator: with 1 cm / 10 mrad of position noise, the PD+ commands jump with
+  // every measurement; with the closed loop's PositionFilter (T = 0.1 s) the command's
+  // step-to-step change is several times smaller. Same seed, same latency, both runs.
+  const ExampleConfig config = LoadSpinner();
+  MpcConfig mpc = ParseMpcConfig(config);
+  mpc.closed_loop.duration = 0.5;
+  mpc.closed_loop.latency = mpc::LatencyModel::kFixed;
+  mpc.closed_loop.fixed_latency = 0.002;
+  mpc.closed_loop.sensor_noise = {0.01, 0.0, 0.0};
+  mpc.closed_loop.log_every = 1;
+  auto command_jitter = [&](double time_constant) {
+    mpc.controller.estimator.position_time_constant = time_constant;
+    const mpc::ClosedLoopLog log = RunSpinner(config, mpc);
+    double sum = 0.0;
+    for (size_t k = 1; k < log.u.size(); ++k) sum += (log.u[k] - log.u[k - 1]).squaredNorm();
+    return std::sqrt(sum / (log.u.size() - 1));
+  };
+  const double raw = command_jitter(0.0);
+  const double filtered = command_jitter(0.1);
+  EXPECT_LT(filtered, 0.3 * raw) << "raw " << raw << ", filtered " << filtered;
 }
 
 }  // namespace

@@ -205,3 +205,29 @@ def test_open_loop_example_runs(capsys):
     assert module.main(["spinner", "--max-iterations", "5"]) == 0
     out = capsys.readouterr().out
     assert "termination: max_iterations" in out and "finger_shoulder" in out
+
+
+def test_position_filter_and_estimator_option(spinner):
+    model = spinner.model
+    o = idto.MpcOptions()
+    assert o.estimator.position_time_constant == 0.0
+    e = idto.Estimator()
+    e.position_time_constant = 0.03
+    o.estimator = e
+    o.validate(model)
+    assert o.estimator.position_time_constant == 0.03
+    e.position_time_constant = -1.0
+    o.estimator = e
+    with pytest.raises(ValueError, match=r"estimator\.position_time_constant"):
+        o.validate(model)
+    # At rest, a measurement 1 cm away is approached at the rate 1 / T: exp(-1) left after T.
+    f = idto.PositionFilter(model, 0.03)
+    q0 = np.zeros(model.nq())
+    f.reset(q0)
+    q1 = q0 + 0.01
+    for _ in range(30):
+        q = f.update(1e-3, q1, np.zeros(model.nv()))
+    assert np.allclose(q1 - q, 0.01 * np.exp(-1.0), atol=1e-12)
+    assert np.array_equal(q, f.estimate)
+    with pytest.raises(ValueError, match=r"time_constant"):
+        idto.PositionFilter(model, 0.0)

@@ -90,6 +90,16 @@ struct MpcOptions {
     double seek_max{0.0015};      ///< m, >= 0
   };
   Hold hold;
+  /// The state estimate the closed loop gives the controller (docs/mpc.md, session 39). With
+  /// position_time_constant T > 0, RunClosedLoop passes every measurement through a
+  /// PositionFilter with this T (a complementary filter: predicted with the measured velocity,
+  /// corrected towards the measured positions at the rate 1 / T) and the re-plans and the PD+
+  /// tracking use its estimate of q instead of the measured q; v stays the measured one. 0 (the
+  /// default): the measurements as they are. A robot's loop uses PositionFilter the same way.
+  struct Estimator {
+    double position_time_constant{0.0};  ///< s, >= 0 (0: off)
+  };
+  Estimator estimator;
   /// Most joints that may move one hold tip (MpcOptions::Hold::tips).
   static constexpr int kMaxHoldTipDofs = 8;
   PdGains gains;  ///< nv each; zero gives pure feed-forward
