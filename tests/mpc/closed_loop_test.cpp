@@ -146,12 +146,18 @@ mpc::ClosedLoopLog RunSpinner(const ExampleConfig& config, const MpcConfig& mpc)
   return mpc::RunClosedLoop(config.model, mpc.closed_loop, &controller, plant.get());
 }
 
-TEST(ClosedLoop, FixedLatencyRunsAreReproducible) {
-  const ExampleConfig config = LoadSpinner();
+// The spinner's mpc section for a 0.5 s run with a fixed 2 ms latency (machine-independent).
+MpcConfig ShortFixedLatencyRun(const ExampleConfig& config) {
   MpcConfig mpc = ParseMpcConfig(config);
   mpc.closed_loop.duration = 0.5;
   mpc.closed_loop.latency = mpc::LatencyModel::kFixed;
   mpc.closed_loop.fixed_latency = 0.002;
+  return mpc;
+}
+
+TEST(ClosedLoop, FixedLatencyRunsAreReproducible) {
+  const ExampleConfig config = LoadSpinner();
+  const MpcConfig mpc = ShortFixedLatencyRun(config);
   const mpc::ClosedLoopLog a = RunSpinner(config, mpc);
   const mpc::ClosedLoopLog b = RunSpinner(config, mpc);
   ASSERT_EQ(a.q.size(), b.q.size());
@@ -166,10 +172,7 @@ TEST(ClosedLoop, TheEstimatorFiltersTheControllersMeasurements) {
   // every measurement; with the closed loop's PositionFilter (T = 0.1 s) the command's
   // step-to-step change is several times smaller. Same seed, same latency, both runs.
   const ExampleConfig config = LoadSpinner();
-  MpcConfig mpc = ParseMpcConfig(config);
-  mpc.closed_loop.duration = 0.5;
-  mpc.closed_loop.latency = mpc::LatencyModel::kFixed;
-  mpc.closed_loop.fixed_latency = 0.002;
+  MpcConfig mpc = ShortFixedLatencyRun(config);
   mpc.closed_loop.sensor_noise = {0.01, 0.0, 0.0};
   mpc.closed_loop.log_every = 1;
   auto command_jitter = [&](double time_constant) {
