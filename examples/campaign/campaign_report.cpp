@@ -51,13 +51,40 @@ struct Summary {
   int runs_with_late{0};
 };
 
+// The push's direction as the nearest of the four horizontal axes: 0 +x, 1 +y, 2 -x, 3 -y
+// (a direction exactly between two takes the one counter-clockwise from it).
+int PushQuadrant(double direction) {
+  const int q = static_cast<int>(std::floor(direction / (0.5 * M_PI) + 0.5));
+  return ((q % 4) + 4) % 4;
+}
+
+constexpr const char* kQuadrantNames[] = {"+x", "+y", "-x", "-y"};
+
+// The breakdown's groups, in the report's order: impulse terciles, friction, mass, late
+// re-plans, then by push direction (the nearest horizontal axis; +-x only for pushes along x),
+// and the upper impulse tercile by direction (where a system is weakest against large pushes,
+// e.g. the Allegro ball pushed towards the wrist, docs/mpc.md).
+std::vector<Group> MakeGroups(const CampaignSettings& settings) {
+  std::vector<Group> groups = {
+      {"push impulse in the lower third", 0, 0}, {"push impulse in the middle third", 0, 0},
+      {"push impulse in the upper third", 0, 0}, {"friction below nominal", 0, 0},
+      {"friction at or above nominal", 0, 0},    {"total mass below nominal", 0, 0},
+      {"total mass at or above nominal", 0, 0},  {"no late re-plan", 0, 0},
+      {"at least one late re-plan", 0, 0}};
+  for (const char* prefix : {"push towards ", "push impulse in the upper third towards "}) {
+    for (int q = 0; q < 4; ++q) {
+      if (settings.push_along_x && q % 2 == 1) continue;
+      groups.push_back({std::string(prefix) + kQuadrantNames[q], 0, 0});
+    }
+  }
+  return groups;
+}
+
 Summary Summarize(const CampaignSettings& settings, const std::vector<RunResult>& runs) {
   Summary s;
-  s.groups = {{"push impulse in the lower third", 0, 0}, {"push impulse in the middle third", 0, 0},
-              {"push impulse in the upper third", 0, 0}, {"friction below nominal", 0, 0},
-              {"friction at or above nominal", 0, 0},    {"total mass below nominal", 0, 0},
-              {"total mass at or above nominal", 0, 0},  {"no late re-plan", 0, 0},
-              {"at least one late re-plan", 0, 0}};
+  s.groups = MakeGroups(settings);
+  // Pushes along x only have two directions: groups 9, 10 (+x, -x) and 11, 12 (upper third).
+  const int directions = settings.push_along_x ? 2 : 4;
   for (const RunResult& r : runs) {
     ++s.n;
     s.successes += r.success ? 1 : 0;
@@ -65,8 +92,12 @@ Summary Summarize(const CampaignSettings& settings, const std::vector<RunResult>
     const double fraction =
         settings.max_impulse > 0.0 ? r.conditions.push_impulse / settings.max_impulse : 0.0;
     const int tercile = std::clamp(static_cast<int>(std::floor(3.0 * fraction)), 0, 2);
-    const int in[] = {tercile, r.conditions.friction_scale < 1.0 ? 3 : 4,
-                      r.conditions.total_mass_scale < 1.0 ? 5 : 6, r.late_plans > 0 ? 8 : 7};
+    const int quadrant = PushQuadrant(r.conditions.push_direction);
+    const int direction = settings.push_along_x ? quadrant / 2 : quadrant;
+    std::vector<int> in = {tercile, r.conditions.friction_scale < 1.0 ? 3 : 4,
+                           r.conditions.total_mass_scale < 1.0 ? 5 : 6, r.late_plans > 0 ? 8 : 7,
+                           9 + direction};
+    if (tercile == 2) in.push_back(9 + directions + direction);
     for (int g : in) {
       ++s.groups[g].n;
       s.groups[g].successes += r.success ? 1 : 0;

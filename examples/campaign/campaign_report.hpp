@@ -37,7 +37,9 @@ void MergeCampaigns(const std::vector<std::string>& texts, const std::vector<std
                     CampaignSettings* settings, std::vector<RunResult>* runs);
 
 /// The Markdown report: success rate with its 95% Wilson interval, failure modes, per-condition
-/// breakdown (push impulse tercile, friction and mass below/above nominal) and re-plan counts.
+/// breakdown (push impulse tercile, friction and mass below/above nominal, late re-plans, the
+/// push's direction as the nearest horizontal axis, and the upper impulse tercile by direction)
+/// and re-plan counts.
 std::string CampaignMarkdown(const CampaignSettings& settings, const std::vector<RunResult>& runs);
 
 }  // namespace idto::campaign

@@ -157,6 +157,59 @@ TEST(Campaign, SpinnerCampaignIsReproducibleAndMerges) {
   EXPECT_THAT(markdown, HasSubstr(std::to_string(successes) + " of 3 runs succeeded"));
 }
 
+/// The breakdown row `name` of a campaign's Markdown report: "| name | runs | successes | ...".
+std::string BreakdownRow(const std::string& markdown, const std::string& name) {
+  const std::string key = "| " + name + " | ";
+  const size_t at = markdown.find(key);
+  if (at == std::string::npos) return "(missing)";
+  return markdown.substr(at, markdown.find('\n', at) - at);
+}
+
+TEST(Campaign, BreakdownByPushDirection) {
+  // Six synthetic runs: directions about each axis (and exactly between +x and +y, which counts
+  // towards +y), impulses in the upper and lower thirds of 0.05 N s.
+  campaign::CampaignSettings settings = campaign::DefaultSettings("allegro");
+  const double pi = std::acos(-1.0);
+  const struct {
+    double direction, impulse;
+    bool success;
+  } cases[] = {{0.1, 0.045, false}, {-0.3, 0.04, true},        {0.25 * pi, 0.01, true},
+               {pi, 0.045, true},   {-0.5 * pi, 0.002, false}, {1.9 * pi, 0.001, true}};
+  std::vector<campaign::RunResult> runs;
+  for (const auto& c : cases) {
+    campaign::RunResult r;
+    r.run_index = static_cast<int>(runs.size());
+    r.conditions.push_direction = c.direction;
+    r.conditions.push_impulse = c.impulse;
+    r.success = c.success;
+    r.failure_mode = c.success ? "" : "not held";
+    runs.push_back(r);
+  }
+  const std::string md = campaign::CampaignMarkdown(settings, runs);
+  EXPECT_EQ(BreakdownRow(md, "push towards +x"), "| push towards +x | 3 | 2 | 66.7 % |");
+  EXPECT_EQ(BreakdownRow(md, "push towards +y"), "| push towards +y | 1 | 1 | 100.0 % |");
+  EXPECT_EQ(BreakdownRow(md, "push towards -x"), "| push towards -x | 1 | 1 | 100.0 % |");
+  EXPECT_EQ(BreakdownRow(md, "push towards -y"), "| push towards -y | 1 | 0 | 0.0 % |");
+  EXPECT_EQ(BreakdownRow(md, "push impulse in the upper third towards +x"),
+            "| push impulse in the upper third towards +x | 2 | 1 | 50.0 % |");
+  EXPECT_EQ(BreakdownRow(md, "push impulse in the upper third towards -x"),
+            "| push impulse in the upper third towards -x | 1 | 1 | 100.0 % |");
+  EXPECT_EQ(BreakdownRow(md, "push impulse in the upper third towards -y"),
+            "| push impulse in the upper third towards -y | 0 | 0 | - |");
+  // The JSON summary carries the same groups.
+  const std::string json = campaign::CampaignJson(settings, runs);
+  EXPECT_THAT(json, HasSubstr("{\"condition\": \"push towards +x\", \"runs\": 3, "
+                              "\"successes\": 2}"));
+  // Systems pushed along x only (the hopper) get the +x and -x rows, no +-y rows.
+  settings.push_along_x = true;
+  runs[0].conditions.push_direction = 0.0;
+  runs[1].conditions.push_direction = pi;
+  const std::string along_x = campaign::CampaignMarkdown(settings, {runs[0], runs[1]});
+  EXPECT_EQ(BreakdownRow(along_x, "push towards +x"), "| push towards +x | 1 | 0 | 0.0 % |");
+  EXPECT_EQ(BreakdownRow(along_x, "push towards -x"), "| push towards -x | 1 | 1 | 100.0 % |");
+  EXPECT_EQ(BreakdownRow(along_x, "push towards +y"), "(missing)");
+}
+
 TEST(ClosedLoopConditions, MeasuredStateIsNoisyButValid) {
   const ExampleConfig config = LoadExample("quadruped");
   const Model& model = config.model;
