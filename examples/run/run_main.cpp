@@ -367,6 +367,8 @@ std::string MakeSummaryJson(const ExampleConfig& config, const std::string& conf
     json.Number(it.ratio);
     json.Key("accepted");
     json.Bool(it.accepted);
+    json.Key("growth_guard");
+    json.Bool(it.growth_guard);
     json.Key("step_type");
     json.String(StepTypeName(it.step_type));
     json.Key("constraint_violation");

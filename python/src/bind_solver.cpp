@@ -74,6 +74,7 @@ void BindSummaries(py::module_& m) {
       .def_readonly("constraint_violation", &I::constraint_violation)
       .def_readonly("trial_cost", &I::trial_cost)
       .def_readonly("trial_with_derivatives", &I::trial_with_derivatives)
+      .def_readonly("growth_guard", &I::growth_guard)
       .def_readonly("regularization", &I::regularization)
       .def_readonly("time_derivatives", &I::time_derivatives)
       .def_readonly("time_cost", &I::time_cost)

@@ -98,7 +98,7 @@ std::string SolverSummary::ToCsv() const {
          "accepted,step_type,constraint_violation,trial_cost,regularization,time_derivatives,time_"
          "cost,"
          "time_hessian,time_factorization,time_multipliers,time_total,time_contact,correction_"
-         "norm\n";
+         "norm,growth_guard\n";
   for (const IterationSummary& s : log) {
     out << s.iteration << ',' << s.cost << ',' << s.merit << ',' << s.gradient_norm << ','
         << s.step_norm << ',' << s.scaled_step_norm << ',' << s.trust_radius << ',' << s.ratio
@@ -106,7 +106,7 @@ std::string SolverSummary::ToCsv() const {
         << s.constraint_violation << ',' << s.trial_cost << ',' << s.regularization << ','
         << s.time_derivatives << ',' << s.time_cost << ',' << s.time_hessian << ','
         << s.time_factorization << ',' << s.time_multipliers << ',' << s.time_total << ','
-        << s.time_contact << ',' << s.correction_norm << '\n';
+        << s.time_contact << ',' << s.correction_norm << ',' << (s.growth_guard ? 1 : 0) << '\n';
   }
   return out.str();
 }

@@ -231,9 +231,15 @@ class TrajectoryOptimizer::Impl {
     s->time_contact += TicksToSeconds(transcription_.TakeContactTicks(), cost_ticks, s->time_cost);
     s->trial_cost = trial_cost;
     s->ratio = internal::ReductionRatio(merit_, trial_merit_, predicted);
-    trust_radius_ = internal::UpdateTrustRadius(s->ratio, s->scaled_step_norm, trust_radius_,
-                                                options_.max_trust_radius);
-    s->accepted = s->ratio > options_.acceptance_ratio;
+    // The growth guard (Lagrange route, merit with multipliers): a point that the merit favours
+    // but whose cost and violation both grew tenfold counts as a failed step.
+    s->growth_guard = lagrange() && s->ratio > options_.acceptance_ratio &&
+                      internal::GrowthGuardTrips(x_.cost, s->constraint_violation, trial_cost,
+                                                 transcription_.ConstraintViolation(trial_));
+    const double ratio_for_radius = s->growth_guard ? -1.0 : s->ratio;
+    trust_radius_ = internal::UpdateTrustRadius(ratio_for_radius, s->scaled_step_norm,
+                                                trust_radius_, options_.max_trust_radius);
+    s->accepted = ratio_for_radius > options_.acceptance_ratio;
     return predicted;
   }
 

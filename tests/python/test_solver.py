@@ -127,6 +127,7 @@ def test_solve_shapes_summary_and_trajectory(spinner):
                  "time_multipliers", "time_total", "time_contact"):
         assert isinstance(getattr(it, name), float)
     assert isinstance(it.accepted, bool) and isinstance(it.step_type, idto.DoglegStep)
+    assert all(isinstance(i.growth_guard, bool) for i in summary.log)
     # The last iteration's trial point has no next iteration to bring derivatives to.
     assert it.trial_with_derivatives is False and summary.log[0].trial_with_derivatives is True
     assert summary.mean_iteration_time() > 0

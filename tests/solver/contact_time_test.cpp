@@ -80,7 +80,7 @@ TEST(SolverContactTime, PositiveWithContactOnOneAndTwoThreads) {
     }
     EXPECT_GT(total, 0.0);
     EXPECT_THAT(s.FullReport(), HasSubstr("contact evaluation"));
-    EXPECT_THAT(s.ToCsv(), HasSubstr(",time_contact,correction_norm\n"));
+    EXPECT_THAT(s.ToCsv(), HasSubstr(",time_contact,correction_norm,growth_guard\n"));
   }
 }
 

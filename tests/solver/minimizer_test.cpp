@@ -204,6 +204,20 @@ TEST(TrustRegion, RatioRadiusAndConvergencePredicates) {
   EXPECT_FALSE(internal::PredictedReductionNegligible(1e-3, 1.0));
 }
 
+TEST(TrustRegion, GrowthGuardTripsOnlyWhenBothGrowTenfold) {
+  const double inf = std::numeric_limits<double>::infinity();
+  EXPECT_TRUE(internal::GrowthGuardTrips(1.0, 2.0, 10.5, 21.0));
+  EXPECT_FALSE(internal::GrowthGuardTrips(1.0, 2.0, 10.5, 19.0));  // violation only 9.5x
+  EXPECT_FALSE(internal::GrowthGuardTrips(1.0, 2.0, 9.5, 1e9));    // cost only 9.5x
+  EXPECT_FALSE(internal::GrowthGuardTrips(1.0, 2.0, 10.0, 20.0));  // exactly 10x: kept
+  // A feasible iterate (violation 0): any violation counts as growth, a cost of 10x too.
+  EXPECT_TRUE(internal::GrowthGuardTrips(1.0, 0.0, 11.0, 1e-30));
+  EXPECT_FALSE(internal::GrowthGuardTrips(1.0, 0.0, 11.0, 0.0));
+  // Non-finite trial values are left to the ratio test.
+  EXPECT_FALSE(internal::GrowthGuardTrips(1.0, 1.0, inf, inf));
+  EXPECT_FALSE(internal::GrowthGuardTrips(1.0, 1.0, std::nan(""), 100.0));
+}
+
 TEST(Callbacks, TerminateSuccessfullyAndAbortAreDistinct) {
   const Model model = test::BallAndFinger();
   const ProblemDefinition p = BallAndFingerProblem(model, 8);

@@ -37,6 +37,10 @@ struct IterationSummary {
   double trust_radius{0.0};  ///< radius used for this step
   double ratio{0.0};         ///< rho = actual / predicted reduction
   bool accepted{false};
+  /// Lagrange method: the trial point passed the ratio test but its cost and constraint
+  /// violation were both more than 10 times the iterate's, so it was rejected as a failed step
+  /// (the radius shrinks; docs/solver.md, "Growth guard"). Always false with the penalty method.
+  bool growth_guard{false};
   DoglegStep step_type{DoglegStep::kNone};
   double constraint_violation{0.0};  ///< sum of squared unactuated generalized forces
   double trial_cost{0.0};
