@@ -52,8 +52,10 @@ struct Summary {
 };
 
 // The push's direction as the nearest of the four horizontal axes: 0 +x, 1 +y, 2 -x, 3 -y
-// (a direction exactly between two takes the one counter-clockwise from it).
+// (a direction exactly between two takes the one counter-clockwise from it); -1 when it is not
+// finite (a file read with --merge may hold null).
 int PushQuadrant(double direction) {
+  if (!std::isfinite(direction)) return -1;
   const int q = static_cast<int>(std::floor(direction / (0.5 * M_PI) + 0.5));
   return ((q % 4) + 4) % 4;
 }
@@ -93,11 +95,16 @@ Summary Summarize(const CampaignSettings& settings, const std::vector<RunResult>
         settings.max_impulse > 0.0 ? r.conditions.push_impulse / settings.max_impulse : 0.0;
     const int tercile = std::clamp(static_cast<int>(std::floor(3.0 * fraction)), 0, 2);
     const int quadrant = PushQuadrant(r.conditions.push_direction);
-    const int direction = settings.push_along_x ? quadrant / 2 : quadrant;
+    // Along x only: the sign of the push's x component (the draws are 0 or pi).
+    const int direction = !settings.push_along_x                         ? quadrant
+                          : std::cos(r.conditions.push_direction) >= 0.0 ? 0
+                                                                         : 1;
     std::vector<int> in = {tercile, r.conditions.friction_scale < 1.0 ? 3 : 4,
-                           r.conditions.total_mass_scale < 1.0 ? 5 : 6, r.late_plans > 0 ? 8 : 7,
-                           9 + direction};
-    if (tercile == 2) in.push_back(9 + directions + direction);
+                           r.conditions.total_mass_scale < 1.0 ? 5 : 6, r.late_plans > 0 ? 8 : 7};
+    if (quadrant >= 0) {
+      in.push_back(9 + direction);
+      if (tercile == 2) in.push_back(9 + directions + direction);
+    }
     for (int g : in) {
       ++s.groups[g].n;
       s.groups[g].successes += r.success ? 1 : 0;

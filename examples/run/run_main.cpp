@@ -267,8 +267,8 @@ void PrintTableRow(std::ostream& out, const IterationSummary& it) {
   std::snprintf(line, sizeof(line),
                 "%5d %13.6e %13.6e %10.3e %10.3e %10.3e %10.3e %4s %7s %10.3e %9.3f\n",
                 it.iteration, it.cost, it.merit, it.gradient_norm, it.step_norm, it.trust_radius,
-                it.ratio, it.accepted ? "yes" : "no", StepTypeName(it.step_type).c_str(),
-                it.constraint_violation, 1e3 * it.time_total);
+                it.ratio, it.accepted ? "yes" : (it.growth_guard ? "grd" : "no"),
+                StepTypeName(it.step_type).c_str(), it.constraint_violation, 1e3 * it.time_total);
   out << line;
   out.flush();
 }

@@ -67,8 +67,8 @@ std::string SolverSummary::FullReport() const {
     std::snprintf(line, sizeof(line),
                   "%5d %11.4e %11.4e %9.2e %9.2e %9.2e %9.2e  %3s  %-6s %10.3e %7.3f\n",
                   s.iteration, s.cost, s.merit, s.gradient_norm, s.step_norm, s.trust_radius,
-                  s.ratio, s.accepted ? "yes" : "no", StepName(s.step_type), s.constraint_violation,
-                  1e3 * s.time_total);
+                  s.ratio, s.accepted ? "yes" : (s.growth_guard ? "grd" : "no"),
+                  StepName(s.step_type), s.constraint_violation, 1e3 * s.time_total);
     out << line;
     total.time_derivatives += s.time_derivatives;
     total.time_cost += s.time_cost;

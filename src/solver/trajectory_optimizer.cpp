@@ -402,8 +402,9 @@ class TrajectoryOptimizer::Impl {
       summary.log.push_back(s);
       ++summary.iterations;
       if (options_.verbosity > 0) {
-        std::printf("%4d cost %.6e rho %.3e radius %.3e %s\n", it, s.cost, s.ratio, s.trust_radius,
-                    s.accepted ? "accepted" : "rejected");
+        std::printf(
+            "%4d cost %.6e rho %.3e radius %.3e %s\n", it, s.cost, s.ratio, s.trust_radius,
+            s.accepted ? "accepted" : (s.growth_guard ? "rejected (growth guard)" : "rejected"));
       }
       RunCallbacks(&summary);
     }

@@ -208,6 +208,17 @@ TEST(Campaign, BreakdownByPushDirection) {
   EXPECT_EQ(BreakdownRow(along_x, "push towards +x"), "| push towards +x | 1 | 0 | 0.0 % |");
   EXPECT_EQ(BreakdownRow(along_x, "push towards -x"), "| push towards -x | 1 | 1 | 100.0 % |");
   EXPECT_EQ(BreakdownRow(along_x, "push towards +y"), "(missing)");
+  EXPECT_EQ(BreakdownRow(along_x, "push impulse in the upper third towards +x"),
+            "| push impulse in the upper third towards +x | 1 | 0 | 0.0 % |");
+  EXPECT_EQ(BreakdownRow(along_x, "push impulse in the upper third towards -x"),
+            "| push impulse in the upper third towards -x | 1 | 1 | 100.0 % |");
+  // A direction that is not a number (a merged file's null) counts in no direction's row.
+  settings.push_along_x = false;
+  runs[0].conditions.push_direction = std::nan("");
+  const std::string nan_direction = campaign::CampaignMarkdown(settings, {runs[0], runs[1]});
+  EXPECT_EQ(BreakdownRow(nan_direction, "push towards +x"), "| push towards +x | 0 | 0 | - |");
+  EXPECT_EQ(BreakdownRow(nan_direction, "push towards -x"),
+            "| push towards -x | 1 | 1 | 100.0 % |");
 }
 
 TEST(ClosedLoopConditions, MeasuredStateIsNoisyButValid) {
