@@ -1,5 +1,6 @@
 #include "idto/solver/banded_kkt.hpp"
 
+#include <algorithm>
 #include <string>
 
 #include "idto/core/errors.hpp"
@@ -41,16 +42,34 @@ void BlockConstraintJacobian::SetZero() {
 
 void BlockConstraintJacobian::Multiply(const Eigen::VectorXd& p, Eigen::VectorXd* Ap) const {
   CheckSize("BlockConstraintJacobian::Multiply", "p", p.size(), cols(), "N n");
+  CheckBlockShapes("BlockConstraintJacobian::Multiply");
   const int n = num_positions_;
   const int nu = num_constraints_;
   if (Ap->size() != rows()) Ap->resize(rows());
-  for (int j = 0; j < num_steps_; ++j) {
-    auto y = Ap->segment(j * nu, nu);
-    y.setZero();
-    for (int s = j - 1; s <= j + 1; ++s) {
-      if (!HasBlock(j, s)) continue;
-      y.noalias() += blocks_[Index(j, s)] * p.segment((s - 1) * n, n);
+  if (nu != 1) {
+    for (int j = 0; j < num_steps_; ++j) {
+      auto y = Ap->segment(j * nu, nu);
+      y.setZero();
+      for (int s = std::max(j - 1, 1); s <= std::min(j + 1, num_steps_); ++s) {
+        y.noalias() += blocks_[Index(j, s)] * p.segment((s - 1) * n, n);
+      }
     }
+    return;
+  }
+  // One constraint per step (the spinner, acrobot, hopper): each block is a row of n entries,
+  // and Eigen's dynamic-size products spend most of their time dispatching (2 µs of the
+  // spinner's 40 x 3 blocks per product, against about 0.1 µs for these loops). One dot
+  // product per block, added in the order above: the same sums up to their association.
+  for (int j = 0; j < num_steps_; ++j) {
+    double y = 0.0;
+    for (int s = std::max(j - 1, 1); s <= std::min(j + 1, num_steps_); ++s) {
+      const double* B = blocks_[Index(j, s)].data();
+      const double* x = p.data() + static_cast<Eigen::Index>(s - 1) * n;
+      double dot = 0.0;
+      for (int c = 0; c < n; ++c) dot += B[c] * x[c];
+      y += dot;
+    }
+    (*Ap)(j) = y;
   }
 }
 
@@ -66,14 +85,40 @@ void BlockConstraintJacobian::AddMultiplyTranspose(const Eigen::VectorXd& lambda
   CheckSize("BlockConstraintJacobian::AddMultiplyTranspose", "lambda", lambda.size(), rows(),
             "N nu");
   CheckSize("BlockConstraintJacobian::AddMultiplyTranspose", "y", y->size(), cols(), "N n");
+  CheckBlockShapes("BlockConstraintJacobian::AddMultiplyTranspose");
   const int n = num_positions_;
   const int nu = num_constraints_;
-  for (int j = 0; j < num_steps_; ++j) {
-    const auto l = lambda.segment(j * nu, nu);
-    for (int s = j - 1; s <= j + 1; ++s) {
-      if (!HasBlock(j, s)) continue;
-      y->segment((s - 1) * n, n).noalias() += blocks_[Index(j, s)].transpose() * l;
+  if (nu != 1) {
+    for (int j = 0; j < num_steps_; ++j) {
+      const auto l = lambda.segment(j * nu, nu);
+      for (int s = std::max(j - 1, 1); s <= std::min(j + 1, num_steps_); ++s) {
+        y->segment((s - 1) * n, n).noalias() += blocks_[Index(j, s)].transpose() * l;
+      }
     }
+    return;
+  }
+  // One constraint per step: plain loops, as in Multiply.
+  for (int j = 0; j < num_steps_; ++j) {
+    const double l = lambda(j);
+    for (int s = std::max(j - 1, 1); s <= std::min(j + 1, num_steps_); ++s) {
+      const double* B = blocks_[Index(j, s)].data();
+      double* out = y->data() + static_cast<Eigen::Index>(s - 1) * n;
+      for (int c = 0; c < n; ++c) out[c] += B[c] * l;
+    }
+  }
+}
+
+void BlockConstraintJacobian::CheckBlockShapes(const char* function) const {
+  // The blocks are mutable references (Block): one resized by its owner would be read out of
+  // bounds by the loops above. The message is built only on failure.
+  for (size_t i = 0; i < blocks_.size(); ++i) {
+    const Eigen::MatrixXd& b = blocks_[i];
+    if (b.rows() == num_constraints_ && b.cols() == num_positions_) continue;
+    const int j = static_cast<int>(i / 3), s = j - 1 + static_cast<int>(i % 3);
+    ThrowInvalidArgument(
+        function, "block (" + std::to_string(j) + ", " + std::to_string(s) + ")",
+        std::to_string(b.rows()) + " x " + std::to_string(b.cols()),
+        std::to_string(num_constraints_) + " x " + std::to_string(num_positions_) + " (nu x n)");
   }
 }
 

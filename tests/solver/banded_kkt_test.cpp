@@ -96,29 +96,6 @@ const std::vector<std::tuple<int, int, int>> kSizes = {
     {6, 5, 3},
     {7, 10, 2}};
 
-TEST(BlockConstraintJacobian, ProductsAgreeWithDense) {
-  test::Random rng(1);
-  const KktProblem P = RandomProblem(5, 3, 2, 10.0, 1.0, &rng);
-  const Eigen::MatrixXd A = P.A.MakeDense();
-  ASSERT_EQ(A.rows(), 10);
-  ASSERT_EQ(A.cols(), 15);
-  // Only s in {j−1, j, j+1} ∩ [1, N]: h_0 involves q_1 only, h_4 involves q_3, q_4, q_5.
-  EXPECT_EQ(A.block(0, 3, 2, 12).norm(), 0.0);
-  EXPECT_EQ(A.block(8, 0, 2, 6).norm(), 0.0);
-  const Eigen::VectorXd p = rng.Vector(15);
-  const Eigen::VectorXd l = rng.Vector(10);
-  Eigen::VectorXd Ap, Atl;
-  P.A.Multiply(p, &Ap);
-  P.A.MultiplyTranspose(l, &Atl);
-  EXPECT_EIGEN_NEAR_REL(Ap, Eigen::VectorXd(A * p), 1e-14);
-  EXPECT_EIGEN_NEAR_REL(Atl, Eigen::VectorXd(A.transpose() * l), 1e-14);
-  EXPECT_FALSE(P.A.HasBlock(0, 0));
-  EXPECT_FALSE(P.A.HasBlock(4, 6));
-  EXPECT_THROW(P.A.Block(0, 0), std::invalid_argument);
-  EXPECT_THROW(P.A.Block(2, 4 + 1), std::invalid_argument);
-  EXPECT_THROW(P.A.Multiply(l, &Ap), std::invalid_argument);
-}
-
 TEST(BandedKkt, MatchesDenseFormulaWellConditioned) {
   for (test::KernelPath path : test::AvailableKernelPaths()) {
     const test::ScopedKernelPath scoped(path);

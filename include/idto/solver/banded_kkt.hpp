@@ -75,6 +75,8 @@ class BlockConstraintJacobian {
  private:
   int Index(int j, int s) const { return 3 * j + (s - j + 1); }
   [[noreturn]] void ThrowNoBlock(int j, int s) const;
+  // Throws InvalidArgument naming `function` when a block is not nu x n.
+  void CheckBlockShapes(const char* function) const;
 
   int num_steps_{0};
   int num_positions_{0};
