@@ -27,7 +27,13 @@ void AddTimesVelocityPartial(const Model& model, const Eigen::MatrixXd& X, const
     const int iv = model.velocity_start(b), iq = model.position_start(b);
     const int nv = model.joint_nv(b), nq = model.joint_nq(b);
     if (nv == 1 && nq == 1) {
-      out->col(iq) += (alpha * D(iv, iq)) * X.col(iv);
+      // A column axpy as a plain loop (Eigen's dynamic-size column expression costs more than
+      // the spinner's three multiply-adds).
+      const double scale = alpha * D(iv, iq);
+      const Eigen::Index rows = X.rows();
+      const double* x = X.data() + iv * rows;
+      double* o = out->data() + iq * out->rows();
+      for (Eigen::Index r = 0; r < rows; ++r) o[r] += scale * x[r];
     } else {
       // Tiny inner dimension (a joint's nv <= 6): a coefficient-wise product, not GEMM.
       out->middleCols(iq, nq).noalias() +=
